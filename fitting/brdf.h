@@ -1,0 +1,67 @@
+// The BRDF interface every material and fitted model implements.
+//
+// Conventions (DESIGN.md section 2): directions are unit vectors in the sample frame (normal +z,
+// azimuth from +x); w_i points toward the light, w_o toward the viewer; f_r is in 1/sr, linear
+// RGB, and does NOT include any cosine. Eval returns 0 when either direction is below the
+// horizon (z <= 0).
+//
+// Every model can be importance-sampled: Sample() proposes w_i given w_o, and Pdf() returns the
+// solid-angle density of that proposal. The density is defined over the whole sphere of w_i
+// (a proposal may land below the horizon, where f_r = 0), so it integrates to 1 over the
+// sphere. Models without an analytic sampler inherit cosine-weighted hemisphere sampling.
+// The density is only a proposal: it need not be proportional to f_r, but it must be positive
+// wherever f_r cos(theta_i) is, for unbiased Monte Carlo estimates.
+//
+// A delta material (a perfect mirror) has f_r = 0 everywhere as a function; Sample() returns the
+// single reflected direction with is_delta set and the reflectance in delta_reflectance.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+
+#include "basis/vec3.h"
+
+namespace zbrdf {
+
+struct BrdfSample {
+  Vec3 w_i;               // proposed incident direction (unit length)
+  double pdf = 0;         // solid-angle density at w_i; 0 means no sample was produced
+  bool is_delta = false;  // a Dirac lobe: pdf is meaningless, use delta_reflectance
+  Rgb delta_reflectance;  // for is_delta: the fraction of radiance reflected along w_i
+};
+
+class Brdf {
+ public:
+  virtual ~Brdf() = default;
+
+  // f_r(w_i, w_o) in 1/sr. Zero below the horizon.
+  virtual Rgb Eval(const Vec3& w_i, const Vec3& w_o) const = 0;
+
+  // Evaluates many pairs; f[k] = Eval(w_i[k], w_o[k]). Override where batching is faster.
+  virtual void EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                         std::span<Rgb> f) const;
+
+  // Proposes w_i for the given w_o from uniform random numbers u_lobe, u0, u1 in [0, 1).
+  // u_lobe chooses among lobes of a mixture; (u0, u1) place the direction.
+  virtual BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const;
+
+  // Solid-angle density of Sample() producing w_i given w_o (over the whole sphere of w_i).
+  virtual double Pdf(const Vec3& w_o, const Vec3& w_i) const;
+
+  // f_r(w_i, w_o) == f_r(w_o, w_i) for this model by construction.
+  virtual bool IsReciprocal() const = 0;
+  // The directional albedo integral f_r cos(theta_i) d w_i is <= 1 for every w_o by construction
+  // (for physically valid parameters).
+  virtual bool IsEnergyConserving() const = 0;
+  virtual bool IsDelta() const { return false; }
+
+  // A material spec (see material_spec.h) that recreates this model, e.g. "lambert:0.18".
+  virtual std::string Spec() const = 0;
+};
+
+// Cosine-weighted hemisphere sampling about +z: pdf = cos(theta) / pi (zero below the horizon).
+Vec3 SampleCosineHemisphere(double u0, double u1);
+double CosineHemispherePdf(const Vec3& w);
+
+}  // namespace zbrdf

@@ -1,0 +1,72 @@
+// The zbrdf CLI's subcommand table and argument parser.
+//
+// Each tools/cli/<name>.cc defines one subcommand and registers it with a file-scope
+// `const CommandRegistration kReg{...}` object, so adding a subcommand touches no shared table.
+// A subcommand is a thin function over the libraries: it parses flags with CommandLine, calls
+// library code, and prints a human-readable summary or, with --json, one JSON object.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace zbrdf::cli {
+
+// Declarative flag parser. Flags are `--name value` or `--name=value`; booleans are `--name`.
+// Parse() rejects unknown flags, missing values and missing positionals with InputError naming
+// the flag and pointing at --help. Typed getters validate and name the flag on bad input.
+class CommandLine {
+ public:
+  CommandLine(std::string command, std::string summary);
+
+  CommandLine& Positional(const std::string& name, const std::string& help, bool required = true);
+  CommandLine& Flag(const std::string& name, const std::string& help);
+  CommandLine& Option(const std::string& name, const std::string& value_name,
+                      const std::string& help, std::optional<std::string> default_value = {});
+  // Free text printed after the option list (examples, notes).
+  CommandLine& Epilog(const std::string& text);
+
+  // Returns false if --help was given (the help has been printed to stdout).
+  bool Parse(const std::vector<std::string>& args);
+
+  bool Has(const std::string& name) const;  // flag given, or option given or defaulted
+  std::string Get(const std::string& name) const;
+  double GetDouble(const std::string& name) const;
+  double GetDouble(const std::string& name, double min, double max) const;
+  int GetInt(const std::string& name, int min, int max) const;
+  // "a,b" -> {a, b} with exactly `count` numbers.
+  std::vector<double> GetDoubles(const std::string& name, size_t count) const;
+  std::string Positional(size_t index) const;
+  size_t NumPositionals() const { return positional_values_.size(); }
+
+  std::string Help() const;
+
+ private:
+  struct Spec {
+    std::string name, value_name, help;
+    bool is_flag = false;
+    std::optional<std::string> default_value;
+  };
+  std::string command_, summary_, epilog_;
+  std::vector<Spec> options_;
+  std::vector<std::pair<std::string, std::string>> positionals_;  // name, help
+  size_t required_positionals_ = 0;
+  std::map<std::string, std::string> values_;
+  std::vector<std::string> positional_values_;
+};
+
+struct Command {
+  std::string name;
+  std::string summary;
+  std::function<int(const std::vector<std::string>& args)> run;  // returns the exit code
+};
+
+std::map<std::string, Command>& CommandTable();
+
+struct CommandRegistration {
+  explicit CommandRegistration(Command command);
+};
+
+}  // namespace zbrdf::cli
