@@ -10,10 +10,12 @@
 // (a proposal may land below the horizon, where f_r = 0), so it integrates to 1 over the
 // sphere. Models without an analytic sampler inherit cosine-weighted hemisphere sampling.
 // The density is only a proposal: it need not be proportional to f_r, but it must be positive
-// wherever f_r cos(theta_i) is, for unbiased Monte Carlo estimates.
+// wherever f_r cos(theta_i) is, for unbiased Monte Carlo estimates. For w_o below the horizon
+// (z <= 0), where f_r = 0, a model may produce no sample (pdf = 0); its Pdf() is then 0 too.
 //
 // A delta material (a perfect mirror) has f_r = 0 everywhere as a function; Sample() returns the
-// single reflected direction with is_delta set and the reflectance in delta_reflectance.
+// single reflected direction with is_delta set, pdf = 1 (the probability of that direction) and
+// the reflectance in delta_reflectance; its Pdf() is 0 for every pair.
 #pragma once
 
 #include <memory>
@@ -27,7 +29,7 @@ namespace zbrdf {
 struct BrdfSample {
   Vec3 w_i;               // proposed incident direction (unit length)
   double pdf = 0;         // solid-angle density at w_i; 0 means no sample was produced
-  bool is_delta = false;  // a Dirac lobe: pdf is meaningless, use delta_reflectance
+  bool is_delta = false;  // a Dirac lobe: pdf is 1, not a density; use delta_reflectance
   Rgb delta_reflectance;  // for is_delta: the fraction of radiance reflected along w_i
 };
 
