@@ -66,6 +66,11 @@ class Camera {
 
   virtual void SetTriggerMode(TriggerMode mode) = 0;
 
+  // The capture plan's index of the next frame. Hardware drivers may ignore it (or log it); the
+  // simulator's virtual camera keys its noise on it, so that a resumed capture reproduces an
+  // uninterrupted one frame for frame.
+  virtual void SetNextFrameIndex(uint64_t index) { (void)index; }
+
   // Captures one frame (see TriggerMode). Throws DeviceError on timeout, on a frame with
   // missing data after the driver's retries, or if the camera stopped answering.
   virtual Frame Grab(std::chrono::milliseconds timeout) = 0;
