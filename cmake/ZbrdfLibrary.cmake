@@ -24,6 +24,7 @@ function(zbrdf_test_folder name)
   add_executable(${name} ${sources})
   target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
   target_compile_definitions(${name} PRIVATE
+    ZBRDF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ZBRDF_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data"
     ZBRDF_BINARY_DIR="${PROJECT_BINARY_DIR}")
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS ${name})

@@ -51,6 +51,20 @@ class Brdf {
   // Solid-angle density of Sample() producing w_i given w_o (over the whole sphere of w_i).
   virtual double Pdf(const Vec3& w_o, const Vec3& w_i) const;
 
+  // The probability with which Sample() draws from the model's glossy (peaked) part; the rest
+  // of its samples are cosine-weighted about the normal (the diffuse part), so that
+  //   Pdf = p_glossy * GlossyPdf + (1 - p_glossy) * cos(theta_i) / pi.
+  // Models that only sample the cosine lobe return 0.
+  virtual double GlossyProbability(const Vec3& w_o) const {
+    (void)w_o;
+    return 0.0;
+  }
+  // Samples of the glossy part alone, and their density, for integrators that handle the
+  // smooth part of an integrand by other means (the rig simulator). No sample (pdf = 0) when
+  // GlossyProbability is 0.
+  BrdfSample SampleGlossy(const Vec3& w_o, double u_lobe, double u0, double u1) const;
+  double GlossyPdf(const Vec3& w_o, const Vec3& w_i) const;
+
   // f_r(w_i, w_o) == f_r(w_o, w_i) for this model by construction.
   virtual bool IsReciprocal() const = 0;
   // The directional albedo integral f_r cos(theta_i) d w_i is <= 1 for every w_o by construction

@@ -34,6 +34,7 @@ class GgxBrdf final : public Brdf {
   Rgb Eval(const Vec3& w_i, const Vec3& w_o) const override;
   BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
   double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
+  double GlossyProbability(const Vec3& w_o) const override { return SpecularProbability(w_o); }
   bool IsReciprocal() const override { return true; }
   // True when kd is black (see above).
   bool IsEnergyConserving() const override;

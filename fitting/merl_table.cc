@@ -156,7 +156,7 @@ MerlBrdf::MerlBrdf(MerlTable table, std::string spec)
   for (const Rgb& f : table_.f) {
     invalid_entry_count_ += (f.r < 0) + (f.g < 0) + (f.b < 0);
   }
-  sampler_ = std::make_unique<LobeProxySampler>(*this);
+  sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
 }
 
 std::unique_ptr<MerlBrdf> MerlBrdf::FromFile(const std::string& path) {
@@ -175,5 +175,9 @@ BrdfSample MerlBrdf::Sample(const Vec3& w_o, double u_lobe, double u0, double u1
 }
 
 double MerlBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const { return sampler_->Pdf(w_o, w_i); }
+
+double MerlBrdf::GlossyProbability(const Vec3& w_o) const {
+  return w_o.z > 0 ? sampler_->LobeProbability(w_o) : 0.0;
+}
 
 }  // namespace zbrdf

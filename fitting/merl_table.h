@@ -62,7 +62,7 @@ MerlTable ReadMerlBinary(const std::string& path);
 void WriteMerlBinary(const std::string& path, const MerlTable& table);
 
 // A MERL table as a BRDF. Unmeasured (negative) entries evaluate to 0 per channel. Sampled with
-// the LobeProxySampler fitted to the table at construction.
+// the HalfVectorProxySampler fitted to the table at construction.
 class MerlBrdf final : public Brdf {
  public:
   // spec: what Spec() returns, e.g. "file:gold.binary".
@@ -73,6 +73,7 @@ class MerlBrdf final : public Brdf {
   Rgb Eval(const Vec3& w_i, const Vec3& w_o) const override;
   BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
   double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
+  double GlossyProbability(const Vec3& w_o) const override;
   // True: folding phi_d by pi maps (w_i, w_o) and (w_o, w_i) to the same bin.
   bool IsReciprocal() const override { return true; }
   // False: measured data carry no such guarantee.
@@ -82,13 +83,13 @@ class MerlBrdf final : public Brdf {
   const MerlTable& table() const { return table_; }
   // Number of negative (unmeasured) values over all bins and channels, counted at load.
   int64_t invalid_entry_count() const { return invalid_entry_count_; }
-  const LobeProxySampler& sampler() const { return *sampler_; }
+  const HalfVectorProxySampler& sampler() const { return *sampler_; }
 
  private:
   MerlTable table_;
   std::string spec_;
   int64_t invalid_entry_count_ = 0;
-  std::unique_ptr<LobeProxySampler> sampler_;
+  std::unique_ptr<HalfVectorProxySampler> sampler_;
 };
 
 }  // namespace zbrdf

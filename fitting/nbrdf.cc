@@ -218,7 +218,7 @@ NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec)
                  "NbrdfBrdf: weight or bias count does not match the layer size");
     transposed_[k] = Transposed(layers[k]);
   }
-  sampler_ = std::make_unique<LobeProxySampler>(*this);
+  sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
 }
 
 std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name) {
@@ -301,5 +301,9 @@ BrdfSample NbrdfBrdf::Sample(const Vec3& w_o, double u_lobe, double u0, double u
 }
 
 double NbrdfBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const { return sampler_->Pdf(w_o, w_i); }
+
+double NbrdfBrdf::GlossyProbability(const Vec3& w_o) const {
+  return w_o.z > 0 ? sampler_->LobeProbability(w_o) : 0.0;
+}
 
 }  // namespace zbrdf

@@ -9,7 +9,7 @@
 // are applied with cos/sin of phi_h and theta_h taken from h directly (no trigonometric calls),
 // which is the same map up to rounding.
 //
-// Neither reciprocal nor energy conserving by construction. Sampled with a LobeProxySampler
+// Neither reciprocal nor energy conserving by construction. Sampled with a HalfVectorProxySampler
 // fitted at load. EvalBatch evaluates blocks of 64 pairs, each layer as Eigen fixed-size
 // arrays of 16 pairs kept in SIMD registers (about 2.5x faster per pair than Eval); all methods
 // are const and thread-safe, so callers may split a large batch across threads.
@@ -60,12 +60,13 @@ class NbrdfBrdf final : public Brdf {
                  std::span<Rgb> f) const override;
   BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
   double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
+  double GlossyProbability(const Vec3& w_o) const override;
   bool IsReciprocal() const override { return false; }
   bool IsEnergyConserving() const override { return false; }
   std::string Spec() const override { return spec_; }
 
   const NbrdfNetwork& network() const { return network_; }
-  const LobeProxySampler& sampler() const { return *sampler_; }
+  const HalfVectorProxySampler& sampler() const { return *sampler_; }
 
  private:
   // Evaluates count pairs (at most one block) using scratch from EvalBatch.
@@ -74,7 +75,7 @@ class NbrdfBrdf final : public Brdf {
   NbrdfNetwork network_;
   std::array<std::vector<double>, 3> transposed_;  // layer weights as out x in
   std::string spec_;
-  std::unique_ptr<LobeProxySampler> sampler_;
+  std::unique_ptr<HalfVectorProxySampler> sampler_;
 };
 
 }  // namespace zbrdf

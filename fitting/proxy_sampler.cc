@@ -6,156 +6,140 @@
 namespace zbrdf {
 namespace {
 
-constexpr double kProbeThetaStep = 0.15;
-constexpr int kProbeCount = 11;  // theta_o = 0 .. 1.5 rad
-constexpr double kFirstOffset = 1e-3;
-constexpr double kOffsetRatio = 1.25;
-constexpr double kLargestOffset = 1.2;
+constexpr int kCells = 128;
+constexpr int kProbes = 11;
+constexpr double kProbeStep = 0.15;  // theta_o = 0, 0.15, ..., 1.5 rad
+constexpr int kAzimuths = 6;         // phi_h relative to w_o: 0, 30, ..., 150 deg (symmetric)
 constexpr double kMinProbability = 0.05, kMaxProbability = 0.95;
-constexpr double kMinExponent = 1.0, kMaxExponent = 1e6;
 
-// Luminance of f_r, with negative (invalid) values treated as 0.
+// Luminance of f_r, with negative or invalid values treated as 0.
 double Level(const Brdf& brdf, const Vec3& w_i, const Vec3& w_o) {
   const double y = brdf.Eval(w_i, w_o).Luminance();
   return std::isfinite(y) ? std::max(0.0, y) : 0.0;
 }
 
-// Luminance along cos(delta) r + sin(delta) axis for the offsets delta_k; stops below the horizon.
-std::vector<double> Profile(const Brdf& brdf, const Vec3& w_o, const Vec3& r, const Vec3& axis,
-                            std::vector<double>* offsets) {
-  std::vector<double> levels;
-  offsets->clear();
-  for (double delta = kFirstOffset; delta <= kLargestOffset; delta *= kOffsetRatio) {
-    const Vec3 w_i = std::cos(delta) * r + std::sin(delta) * axis;
-    if (w_i.z <= 0) break;
-    offsets->push_back(delta);
-    levels.push_back(Level(brdf, w_i, w_o));
-  }
-  return levels;
-}
-
-// The lobe's energy as a function of the offset delta from r, treating the lobe as rotationally
-// symmetric about r with excess(delta) = level - floor (clamped at 0): the energy within delta
-// is proportional to integral_0^delta excess(t) sin(t) dt (trapezoid rule over the probed
-// offsets; the integrand is 0 at delta = 0).
-class RadialEnergy {
- public:
-  RadialEnergy(const std::vector<double>& offsets, const std::vector<double>& levels, double floor)
-      : offsets_(offsets), cumulative_(offsets.size() + 1, 0.0) {
-    double previous_offset = 0, previous_value = 0;
-    for (size_t k = 0; k < offsets.size(); ++k) {
-      const double value = std::max(0.0, levels[k] - floor) * std::sin(offsets[k]);
-      cumulative_[k + 1] =
-          cumulative_[k] + 0.5 * (value + previous_value) * (offsets[k] - previous_offset);
-      previous_offset = offsets[k];
-      previous_value = value;
-    }
-  }
-
-  double Total() const { return cumulative_.back(); }
-
-  // The offset within which a fraction q of the energy lies (linear within a step); 0 when the
-  // profile holds no energy.
-  double Quantile(double q) const {
-    if (!(Total() > 0)) return 0;
-    const double target = q * Total();
-    for (size_t k = 0; k < offsets_.size(); ++k) {
-      if (cumulative_[k + 1] >= target) {
-        const double start = k == 0 ? 0.0 : offsets_[k - 1];
-        const double t = (target - cumulative_[k]) / (cumulative_[k + 1] - cumulative_[k]);
-        return start + t * (offsets_[k] - start);
-      }
-    }
-    return offsets_.back();
-  }
-
- private:
-  const std::vector<double>& offsets_;
-  std::vector<double> cumulative_;
-};
-
 }  // namespace
 
-LobeProxySampler::LobeProxySampler(const Brdf& brdf) {
-  probes_.reserve(kProbeCount);
-  std::vector<double> offsets_across, offsets_in;
-  for (int n = 0; n < kProbeCount; ++n) {
-    Probe probe;
-    probe.theta_o_rad = n * kProbeThetaStep;
-    const double s = std::sin(probe.theta_o_rad), c = std::cos(probe.theta_o_rad);
-    const Vec3 w_o{s, 0.0, c};
-    const Vec3 r{-s, 0.0, c};
-    const double peak = Level(brdf, r, w_o);
-    // Across the plane of incidence, and within it towards the normal.
-    const std::vector<double> across = Profile(brdf, w_o, r, {0.0, 1.0, 0.0}, &offsets_across);
-    const std::vector<double> in = Profile(brdf, w_o, r, {c, 0.0, s}, &offsets_in);
-    double floor = peak;
-    for (double level : across) floor = std::min(floor, level);
-    for (double level : in) floor = std::min(floor, level);
-    // Two Phong lobes, each sampled with half the lobe probability, whose medians are the
-    // angles holding a quarter and three quarters of the energy: the mixture then matches the
-    // profile's quartiles, covering both a sharp core and broad wings.
-    const RadialEnergy energy_across(offsets_across, across, floor);
-    const RadialEnergy energy_in(offsets_in, in, floor);
-    for (int lobe = 0; lobe < 2; ++lobe) {
-      const double q = lobe == 0 ? 0.25 : 0.75;
-      const double across_q = energy_across.Quantile(q), in_q = energy_in.Quantile(q);
-      double angle = kLargestOffset;
-      if (across_q > 0 && in_q > 0) {
-        angle = std::sqrt(across_q * in_q);
-      } else if (across_q > 0 || in_q > 0) {
-        angle = std::max(across_q, in_q);
+HalfVectorProxySampler::HalfVectorProxySampler(const Brdf& brdf) {
+  theta_edges_.resize(kCells + 1);
+  cos_edges_.resize(kCells + 1);
+  for (int k = 0; k <= kCells; ++k) {
+    const double x = static_cast<double>(k) / kCells;
+    theta_edges_[k] = 0.5 * M_PI * x * x;
+    cos_edges_[k] = std::cos(theta_edges_[k]);
+  }
+  cos_edges_[kCells] = 0.0;
+  probes_.resize(kProbes);
+  for (int p = 0; p < kProbes; ++p) {
+    Probe& probe = probes_[p];
+    probe.theta_o_rad = p * kProbeStep;
+    const Vec3 w_o = SphericalDirection(probe.theta_o_rad, 0.0);
+    // Mean level per theta_h cell over the azimuths where w_i stays above the horizon.
+    std::vector<double> level(kCells, 0.0);
+    std::vector<bool> seen(kCells, false);
+    for (int k = 0; k < kCells; ++k) {
+      const double theta_h = 0.5 * (theta_edges_[k] + theta_edges_[k + 1]);
+      double sum = 0;
+      int count = 0;
+      for (int a = 0; a < kAzimuths; ++a) {
+        const Vec3 h = SphericalDirection(theta_h, M_PI * a / kAzimuths);
+        const Vec3 w_i = ReflectAboutHalfVector(w_o, h);
+        if (w_i.z <= 1e-3) continue;
+        sum += Level(brdf, w_i, w_o);
+        ++count;
       }
-      probe.median_angle_rad[lobe] = angle;
-      // A cos^m lobe about r holds half its probability within the angle where
-      // 1 - cos^(m + 1) = 1/2.
-      probe.exponent[lobe] =
-          std::clamp(std::log(0.5) / std::log(std::cos(angle)) - 1.0, kMinExponent, kMaxExponent);
+      if (count > 0) {
+        level[k] = sum / count;
+        seen[k] = true;
+      }
     }
-    // Energies: the lobe's 2 pi integral excess(t) sin(t) dt (from the profile across the plane
-    // of incidence, which the horizon never cuts) times cos(theta_i) ~ cos(theta_o); the floor's,
-    // as a Lambertian, pi floor.
-    const double lobe_energy = 2.0 * M_PI * energy_across.Total() * c;
-    const double floor_energy = M_PI * floor;
-    const double total = lobe_energy + floor_energy;
-    probe.specular_probability =
-        std::clamp(total > 0 ? lobe_energy / total : 0.0, kMinProbability, kMaxProbability);
-    probes_.push_back(probe);
-    log_exponents_.push_back(std::log(probe.exponent[0]));
-    log_exponents_.push_back(std::log(probe.exponent[1]));
+    double floor = INFINITY;
+    for (int k = 0; k < kCells; ++k) {
+      if (seen[k]) floor = std::min(floor, level[k]);
+    }
+    if (!std::isfinite(floor)) floor = 0;
+    probe.lobe_levels.assign(kCells, 0.0);
+    std::vector<double> weights(kCells, 0.0);
+    double lobe_albedo = 0;
+    for (int k = 0; k < kCells; ++k) {
+      if (!seen[k]) continue;
+      probe.lobe_levels[k] = std::max(0.0, level[k] - floor);
+      const double solid_angle = 2 * M_PI * (cos_edges_[k] - cos_edges_[k + 1]);
+      weights[k] = probe.lobe_levels[k] * solid_angle;
+      // Albedo of the lobe: integral e cos(theta_i) dw_i with dw_i = 4 |w_o.h| dw_h; the
+      // azimuthal mean of cos(theta_i) |w_o.h| is approximated at the cell's first azimuth.
+      const double theta_h = 0.5 * (theta_edges_[k] + theta_edges_[k + 1]);
+      const Vec3 h = SphericalDirection(theta_h, 0.0);
+      const Vec3 w_i = ReflectAboutHalfVector(w_o, h);
+      if (w_i.z > 0) lobe_albedo += probe.lobe_levels[k] * w_i.z * 4 * Dot(w_o, h) * solid_angle;
+    }
+    double weight_sum = 0;
+    for (double w : weights) weight_sum += w;
+    if (weight_sum > 0 && lobe_albedo > 0) {
+      probe.cells = std::make_unique<Distribution1D>(weights);
+      probe.cell_density.resize(kCells);
+      for (int k = 0; k < kCells; ++k) probe.cell_density[k] = probe.lobe_levels[k] / weight_sum;
+      const double floor_albedo = floor * M_PI;
+      probe.lobe_probability = std::clamp(lobe_albedo / (lobe_albedo + floor_albedo),
+                                          kMinProbability, kMaxProbability);
+    }
   }
 }
 
-LobeProxySampler::Mixture LobeProxySampler::MixtureFor(double theta_o_rad) const {
-  const double u = std::clamp(theta_o_rad / kProbeThetaStep, 0.0, kProbeCount - 1.0);
-  const int n = std::min(static_cast<int>(u), kProbeCount - 2);
-  const double t = u - n;
-  const Probe& a = probes_[n];
-  const Probe& b = probes_[n + 1];
-  const double* log_a = &log_exponents_[2 * n];
-  const double* log_b = &log_exponents_[2 * (n + 1)];
-  Mixture mixture;
-  for (int lobe = 0; lobe < 2; ++lobe) {
-    mixture.exponent[lobe] = std::exp((1.0 - t) * log_a[lobe] + t * log_b[lobe]);
-  }
-  mixture.lobe_probability = (1.0 - t) * a.specular_probability + t * b.specular_probability;
-  return mixture;
+void HalfVectorProxySampler::Bracket(double theta_o_rad, int* k, double* a_k) const {
+  const double t = std::clamp(theta_o_rad / kProbeStep, 0.0, kProbes - 1.0);
+  *k = std::min(static_cast<int>(t), kProbes - 2);
+  *a_k = 1.0 - (t - *k);
 }
 
-BrdfSample LobeProxySampler::Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const {
+Vec3 HalfVectorProxySampler::SampleHalfVector(const Probe& probe, double u0, double u1) const {
+  double u_within = 0;
+  const int k = probe.cells->SampleDiscrete(u0, nullptr, &u_within);
+  const double cos_theta = cos_edges_[k] + u_within * (cos_edges_[k + 1] - cos_edges_[k]);
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  const double phi = 2.0 * M_PI * u1;
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+double HalfVectorProxySampler::CellDensity(const Probe& probe, const Vec3& h) const {
+  if (!probe.cells || h.z < 0) return 0.0;
+  // Cell of theta_h: x = sqrt(theta_h / (pi/2)).
+  const double x = std::sqrt(SphericalTheta(h) / (0.5 * M_PI));
+  const int k = std::clamp(static_cast<int>(x * kCells), 0, kCells - 1);
+  return probe.cell_density[k];
+}
+
+double HalfVectorProxySampler::LobeProbability(const Vec3& w_o) const {
+  if (w_o.z <= 0) return 0.0;
+  int k;
+  double a;
+  Bracket(SphericalTheta(w_o), &k, &a);
+  return a * probes_[k].lobe_probability + (1 - a) * probes_[k + 1].lobe_probability;
+}
+
+double HalfVectorProxySampler::HalfVectorPdf(double theta_o_rad, const Vec3& h) const {
+  int k;
+  double a;
+  Bracket(theta_o_rad, &k, &a);
+  const double pk = a * probes_[k].lobe_probability;
+  const double pk1 = (1 - a) * probes_[k + 1].lobe_probability;
+  if (!(pk + pk1 > 0)) return 0.0;
+  return (pk * CellDensity(probes_[k], h) + pk1 * CellDensity(probes_[k + 1], h)) / (pk + pk1);
+}
+
+BrdfSample HalfVectorProxySampler::Sample(const Vec3& w_o, double u_lobe, double u0,
+                                          double u1) const {
   BrdfSample s;
   if (w_o.z <= 0) return s;
-  const Mixture mixture = MixtureFor(SphericalTheta(w_o));
-  if (u_lobe < mixture.lobe_probability) {
-    const double m = mixture.exponent[u_lobe < 0.5 * mixture.lobe_probability ? 0 : 1];
-    // cos(alpha) from the inverse CDF of (m + 1) cos^m over [0, 1]; alpha measured from r.
-    const Vec3 r{-w_o.x, -w_o.y, w_o.z};
-    const double cos_a = std::pow(u0, 1.0 / (m + 1.0));
-    const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
-    const double phi = 2.0 * M_PI * u1;
-    Vec3 t, b;
-    OrthonormalBasis(r, &t, &b);
-    s.w_i = Normalize(sin_a * std::cos(phi) * t + sin_a * std::sin(phi) * b + cos_a * r);
+  int k;
+  double a;
+  Bracket(SphericalTheta(w_o), &k, &a);
+  const double pk = a * probes_[k].lobe_probability;
+  const double pk1 = (1 - a) * probes_[k + 1].lobe_probability;
+  if (u_lobe < pk + pk1) {
+    // A lobe, chosen in proportion to a_j P_j.
+    const Probe& probe = u_lobe < pk ? probes_[k] : probes_[k + 1];
+    s.w_i = ReflectAboutHalfVector(w_o, SampleHalfVector(probe, u0, u1));
   } else {
     s.w_i = SampleCosineHemisphere(u0, u1);
   }
@@ -163,17 +147,16 @@ BrdfSample LobeProxySampler::Sample(const Vec3& w_o, double u_lobe, double u0, d
   return s;
 }
 
-double LobeProxySampler::Pdf(const Vec3& w_o, const Vec3& w_i) const {
-  if (w_o.z <= 0) return 0;
-  const Mixture mixture = MixtureFor(SphericalTheta(w_o));
-  const Vec3 r{-w_o.x, -w_o.y, w_o.z};
-  const double cos_a = Dot(w_i, r);
-  double lobes = 0;
-  if (cos_a > 0) {
-    for (double m : mixture.exponent) lobes += 0.5 * (m + 1.0) / (2.0 * M_PI) * std::pow(cos_a, m);
+double HalfVectorProxySampler::Pdf(const Vec3& w_o, const Vec3& w_i) const {
+  if (w_o.z <= 0) return 0.0;
+  const double theta_o = SphericalTheta(w_o);
+  const double p = LobeProbability(w_o);
+  double lobe = 0;
+  Vec3 h;
+  if (p > 0 && UpperHalfVector(w_i, w_o, &h)) {
+    lobe = HalfVectorToIncidentPdf(HalfVectorPdf(theta_o, h), w_o, h);
   }
-  return mixture.lobe_probability * lobes +
-         (1.0 - mixture.lobe_probability) * CosineHemispherePdf(w_i);
+  return p * lobe + (1.0 - p) * CosineHemispherePdf(w_i);
 }
 
 }  // namespace zbrdf

@@ -1,57 +1,62 @@
 // An importance-sampling proposal for isotropic BRDFs without an analytic sampler (MERL tables,
-// measured-material networks).
+// measured-material networks), in the spirit of the D-BRDF (Ashikhmin & Premoze 2007):
+// tabulated distributions of half vectors, reflected about w_o, mixed with cosine sampling.
 //
-// At construction the BRDF is probed along the mirror direction for viewing angles theta_o =
-// 0, 0.15, ..., 1.5 rad: the luminance of f_r(w_i, w_o) as w_i moves away from the mirror
-// direction r = (-w_o.x, -w_o.y, w_o.z), in and across the plane of incidence, at offsets from
-// 1e-3 to 1.2 rad. The part above the BRDF's floor (its minimum over the probes) is treated as a
-// lobe symmetric about r, and matched by two Phong lobes whose median angles are the angles
-// holding a quarter and three quarters of its energy (a sharp core and broad wings); the lobe's
-// and the floor's energies give the probability P of sampling the lobes. For a given w_o the
-// proposal is the mixture
-//   p(w_i) = P/2 sum_k (m_k + 1) / (2 pi) max(0, w_i.r)^m_k + (1 - P) max(0, cos theta_i) / pi
-// with m_k and P interpolated (log m_k and P linearly in theta_o) between the probes. P is kept
-// in [0.05, 0.95] so that no lobe is ever dropped; m_k in [1, 1e6].
+// At construction the BRDF is probed for 11 viewing angles theta_o (0 .. 1.5 rad): for each,
+// along half-vector angles theta_h (128 cells, finer near the normal: theta_h = (pi/2) x^2 for
+// x uniform) at 6 azimuths phi_h, with w_i = w_o reflected about h. The luminance above the
+// BRDF's floor (its minimum over the probes) becomes that viewing angle's half-vector density
+// p_h (piecewise constant in cos theta_h, uniform in phi_h), and the lobe's share of the energy
+// its lobe probability P (in [0.05, 0.95] when the lobe has energy, 0 without one). Reflecting
+// w_o about h places the lobe correctly for every w_o, off-specular peaks included. For a
+// viewing angle between two probes the proposal is their mixture with linear weights a_j:
+//   p(w_i) = sum_j a_j [P_j p_h,j(h) / (4 |w_o.h|) + (1 - P_j) max(0, cos theta_i) / pi].
+// Sample() draws the glossy part for u_lobe < sum_j a_j P_j, as Brdf::SampleGlossy expects.
 //
 // It is only a proposal for Monte Carlo with multiple importance sampling: Pdf() is exactly the
-// density Sample() draws from, but need not match f_r cos theta_i closely. Probing costs about
-// 800 evaluations of the BRDF.
+// density Sample() draws from. Probing costs about 8500 evaluations of the BRDF.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "fitting/brdf.h"
+#include "fitting/sampling.h"
 
 namespace zbrdf {
 
-class LobeProxySampler {
+class HalfVectorProxySampler {
  public:
-  struct Probe {
-    double theta_o_rad = 0;
-    double median_angle_rad[2] = {0, 0};  // of the two Phong lobes, about r
-    double exponent[2] = {1, 1};          // m_k: cos^(m_k + 1)(median angle) = 1/2
-    double specular_probability = 0;      // P
-  };
-  // The proposal for one viewing angle.
-  struct Mixture {
-    double exponent[2] = {1, 1};
-    double lobe_probability = 0;
-  };
-
   // Probes brdf (assumed isotropic); it is used only during construction.
-  explicit LobeProxySampler(const Brdf& brdf);
+  explicit HalfVectorProxySampler(const Brdf& brdf);
 
   // The mixture above; no sample (pdf = 0) for w_o below the horizon.
   BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const;
   double Pdf(const Vec3& w_o, const Vec3& w_i) const;
 
-  // m_k and P for a viewing direction with the given polar angle.
-  Mixture MixtureFor(double theta_o_rad) const;
+  // sum_j a_j P_j: the probability of sampling a half-vector lobe for this viewing direction.
+  double LobeProbability(const Vec3& w_o) const;
+  // Solid-angle density of the half vector h drawn for viewing angle theta_o (the mixture).
+  double HalfVectorPdf(double theta_o_rad, const Vec3& h) const;
+
+  struct Probe {
+    double theta_o_rad = 0;
+    double lobe_probability = 0;       // P
+    std::vector<double> lobe_levels;   // luminance above the floor per theta_h cell (1/sr)
+    std::vector<double> cell_density;  // solid-angle density of h within each cell
+    std::unique_ptr<Distribution1D> cells;  // null when the probe found no lobe
+  };
   const std::vector<Probe>& probes() const { return probes_; }
+  const std::vector<double>& theta_edges() const { return theta_edges_; }
 
  private:
-  std::vector<Probe> probes_;          // at increasing, evenly spaced theta_o
-  std::vector<double> log_exponents_;  // log m_k per probe, for the interpolation
+  // The two probes around theta_o and their weights a_j.
+  void Bracket(double theta_o_rad, int* k, double* a_k) const;
+  Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
+  double CellDensity(const Probe& probe, const Vec3& h) const;
+
+  std::vector<double> theta_edges_, cos_edges_;
+  std::vector<Probe> probes_;
 };
 
 }  // namespace zbrdf

@@ -30,6 +30,7 @@ class WardBrdf final : public Brdf {
   Rgb Eval(const Vec3& w_i, const Vec3& w_o) const override;
   BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
   double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
+  double GlossyProbability(const Vec3&) const override { return specular_probability_; }
   bool IsReciprocal() const override { return true; }
   bool IsEnergyConserving() const override { return false; }
   // "ward:rho_d=..,rho_s=..,alpha_x=..,alpha_y=..".

@@ -1,0 +1,55 @@
+#include "basis/parallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace zbrdf {
+
+int WorkerThreads() {
+  if (const char* env = std::getenv("ZBRDF_THREADS")) {
+    const int n = std::atoi(env);
+    if (n >= 1) return std::min(n, 256);
+  }
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+void ParallelFor(int64_t count, int64_t grain,
+                 const std::function<void(int64_t, int64_t)>& body) {
+  if (count <= 0) return;
+  grain = std::max<int64_t>(1, grain);
+  const int threads =
+      static_cast<int>(std::min<int64_t>(WorkerThreads(), (count + grain - 1) / grain));
+  if (threads <= 1) {
+    body(0, count);
+    return;
+  }
+  std::atomic<int64_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto worker = [&]() {
+    while (true) {
+      const int64_t begin = next.fetch_add(grain);
+      if (begin >= count) return;
+      try {
+        body(begin, std::min(count, begin + grain));
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next.store(count);
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace zbrdf

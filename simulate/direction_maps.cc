@@ -1,0 +1,284 @@
+#include "simulate/direction_maps.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "basis/error.h"
+#include "basis/parallel.h"
+
+namespace zbrdf {
+
+namespace {
+
+constexpr uint32_t kCacheVersion = 3;
+
+DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, int samples_1d,
+                            const std::string& stage, const ProgressCallback& progress) {
+  const ThinLensParams& p = lens.params();
+  DirectionMap map;
+  map.width = p.width;
+  map.height = p.height;
+  map.direction.assign(3 * map.size(), 0.0f);
+  map.throughput.assign(map.size(), 0.0f);
+  map.solid_angle_sr.assign(map.size(), 0.0f);
+  std::atomic<long> rows_done{0};
+  ParallelFor(p.height, 4, [&](int64_t y0, int64_t y1) {
+    for (int64_t y = y0; y < y1; ++y) {
+      for (int x = 0; x < p.width; ++x) {
+        // Stratified rays over the pixel area and the aperture; a pixel that is partly lit
+        // (at the rim of the mirrors or of the sample) is traced again with 16x the rays, since
+        // its throughput scales its signal directly.
+        Vec3 sum{0, 0, 0};
+        int landed = 0, samples = 0;
+        for (int pass = 0; pass < 2; ++pass) {
+          const int side = pass == 0 ? samples_1d : 4 * samples_1d;
+          sum = {0, 0, 0};
+          landed = 0;
+          samples = side * side;
+          for (int s = 0; s < samples; ++s) {
+            const double u0 = (s % side + 0.5) / side;
+            const double u1 = (s / side + 0.5) / side;
+            const double jx = std::fmod(0.5 + s * 0.6180339887498949, 1.0);
+            const double jy = std::fmod(0.5 + s * 0.7548776662466927, 1.0);
+            const auto path = optics.TraceToSample(
+                lens.GenerateRay(x + jx, y + jy, samples > 1 ? u0 : -1, u1));
+            if (path.status != OpticalSystem::PathStatus::kLanded) continue;
+            sum += path.w;
+            ++landed;
+          }
+          if (landed == 0 || landed == samples) break;
+        }
+        const int index = static_cast<int>(y) * p.width + x;
+        if (landed > 0) {
+          const Vec3 w = Normalize(sum);
+          map.direction[3 * index] = static_cast<float>(w.x);
+          map.direction[3 * index + 1] = static_cast<float>(w.y);
+          map.direction[3 * index + 2] = static_cast<float>(w.z);
+          map.throughput[index] = static_cast<float>(landed) / samples;
+        }
+      }
+      Report(progress, {stage, ++rows_done, p.height, "rows"});
+    }
+  });
+  // Solid angle of each pixel from central differences of its neighbours' directions.
+  for (int y = 0; y < p.height; ++y) {
+    for (int x = 0; x < p.width; ++x) {
+      const int i = y * p.width + x;
+      if (!map.Valid(i)) continue;
+      auto neighbour = [&](int nx, int ny, Vec3* out) {
+        if (nx < 0 || ny < 0 || nx >= p.width || ny >= p.height) return false;
+        const int j = ny * p.width + nx;
+        if (!map.Valid(j)) return false;
+        *out = map.Direction(j);
+        return true;
+      };
+      Vec3 l, r, d, u;
+      const Vec3 c = map.Direction(i);
+      const bool hl = neighbour(x - 1, y, &l), hr = neighbour(x + 1, y, &r);
+      const bool hd = neighbour(x, y - 1, &d), hu = neighbour(x, y + 1, &u);
+      if ((!hl && !hr) || (!hd && !hu)) continue;
+      const Vec3 dx = hl && hr ? (r - l) * 0.5 : (hr ? r - c : c - l);
+      const Vec3 dy = hd && hu ? (u - d) * 0.5 : (hu ? u - c : c - d);
+      map.solid_angle_sr[i] = static_cast<float>(Length(Cross(dx, dy)));
+    }
+  }
+  return map;
+}
+
+ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
+                                 const ProgressCallback& progress) {
+  ProjectorDirectionGrid grid;
+  grid.step_rad = step_deg * M_PI / 180.0;
+  grid.n_theta = static_cast<int>(std::ceil(90.0 / step_deg)) + 1;
+  grid.n_phi = static_cast<int>(std::lround(360.0 / step_deg));
+  grid.step_rad = 2 * M_PI / grid.n_phi;  // exact period in phi
+  grid.n_theta = static_cast<int>(std::ceil((M_PI / 2) / grid.step_rad)) + 1;
+  const size_t n = static_cast<size_t>(grid.n_theta) * grid.n_phi;
+  grid.px.assign(n, std::numeric_limits<float>::quiet_NaN());
+  grid.py.assign(n, std::numeric_limits<float>::quiet_NaN());
+  const ThinLens& projector = optics.projector();
+  const int width = projector.params().width, height = projector.params().height;
+  std::atomic<long> done{0};
+  ParallelFor(grid.n_theta, 8, [&](int64_t i0, int64_t i1) {
+    for (int64_t i = i0; i < i1; ++i) {
+      const double theta = std::min(i * grid.step_rad, M_PI / 2);
+      for (int j = 0; j < grid.n_phi; ++j) {
+        const Vec3 w = SphericalDirection(theta, j * grid.step_rad);
+        const auto path = optics.TraceFromSample({0, 0, 0}, w);
+        if (!path.reached) continue;
+        const auto proj = projector.Project(path.at_lens);
+        if (!proj.in_front || !proj.in_aperture) continue;
+        if (proj.px < 0 || proj.py < 0 || proj.px >= width || proj.py >= height) continue;
+        const size_t k = static_cast<size_t>(i) * grid.n_phi + j;
+        grid.px[k] = static_cast<float>(proj.px);
+        grid.py[k] = static_cast<float>(proj.py);
+      }
+      Report(progress, {"grid", ++done, grid.n_theta, "rows"});
+    }
+  });
+  return grid;
+}
+
+template <typename T>
+void WriteVector(std::ofstream& out, const std::vector<T>& v) {
+  const uint64_t n = v.size();
+  out.write(reinterpret_cast<const char*>(&n), sizeof(n));
+  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
+}
+
+template <typename T>
+bool ReadVector(std::ifstream& in, std::vector<T>* v, uint64_t max_elements) {
+  uint64_t n = 0;
+  if (!in.read(reinterpret_cast<char*>(&n), sizeof(n)) || n > max_elements) return false;
+  v->resize(n);
+  return static_cast<bool>(
+      in.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * sizeof(T))));
+}
+
+void WriteMap(std::ofstream& out, const DirectionMap& m) {
+  const int32_t dims[2] = {m.width, m.height};
+  out.write(reinterpret_cast<const char*>(dims), sizeof(dims));
+  WriteVector(out, m.direction);
+  WriteVector(out, m.throughput);
+  WriteVector(out, m.solid_angle_sr);
+}
+
+bool ReadMap(std::ifstream& in, DirectionMap* m) {
+  int32_t dims[2];
+  if (!in.read(reinterpret_cast<char*>(dims), sizeof(dims))) return false;
+  if (dims[0] <= 0 || dims[1] <= 0 || dims[0] > 20000 || dims[1] > 20000) return false;
+  m->width = dims[0];
+  m->height = dims[1];
+  const uint64_t n = static_cast<uint64_t>(m->width) * m->height;
+  return ReadVector(in, &m->direction, 3 * n) && m->direction.size() == 3 * n &&
+         ReadVector(in, &m->throughput, n) && m->throughput.size() == n &&
+         ReadVector(in, &m->solid_angle_sr, n) && m->solid_angle_sr.size() == n;
+}
+
+}  // namespace
+
+bool ProjectorDirectionGrid::Lookup(const Vec3& w, double* px_out, double* py_out) const {
+  if (w.z <= 0 || n_theta == 0) return false;
+  const double theta = SphericalTheta(w), phi = SphericalPhi(w);
+  const double fi = theta / step_rad, fj = phi / step_rad;
+  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
+  if (i + 1 >= n_theta) return false;
+  const double a = fi - i, b = fj - j;
+  const int j0 = j % n_phi, j1 = (j + 1) % n_phi;
+  const size_t k00 = static_cast<size_t>(i) * n_phi + j0, k01 = static_cast<size_t>(i) * n_phi + j1;
+  const size_t k10 = k00 + n_phi, k11 = k01 + n_phi;
+  const float c[4] = {px[k00], px[k01], px[k10], px[k11]};
+  for (float v : c) {
+    if (std::isnan(v)) return false;
+  }
+  *px_out = (1 - a) * ((1 - b) * px[k00] + b * px[k01]) + a * ((1 - b) * px[k10] + b * px[k11]);
+  *py_out = (1 - a) * ((1 - b) * py[k00] + b * py[k01]) + a * ((1 - b) * py[k10] + b * py[k11]);
+  return true;
+}
+
+RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progress) {
+  const Rig& rig = optics.rig();
+  const int samples_1d =
+      std::max(1, static_cast<int>(std::lround(std::sqrt(rig.simulation.aperture_samples))));
+  RigMaps maps;
+  maps.camera = TraceDeviceMap(optics, optics.camera(), samples_1d, "camera map", progress);
+  maps.projector =
+      TraceDeviceMap(optics, optics.projector(), samples_1d, "projector map", progress);
+  maps.grid = TraceGrid(optics, rig.simulation.direction_grid_deg, progress);
+  return maps;
+}
+
+std::string DefaultCacheDir() {
+  if (const char* dir = std::getenv("ZBRDF_CACHE_DIR"); dir && *dir) return dir;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/zbrdf";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/zbrdf";
+  return "/tmp/zbrdf-cache";
+}
+
+RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache_dir,
+                           const ProgressCallback& progress) {
+  const uint64_t hash = RigHash(optics.rig());
+  char name[64];
+  std::snprintf(name, sizeof(name), "maps-%016llx-v%u.bin", static_cast<unsigned long long>(hash),
+                kCacheVersion);
+  const std::filesystem::path path = std::filesystem::path(cache_dir) / name;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (in) {
+      char magic[8];
+      uint64_t stored_hash = 0;
+      RigMaps maps;
+      double step = 0;
+      int32_t grid_dims[2];
+      if (in.read(magic, 8) && std::memcmp(magic, "ZBRDFMAP", 8) == 0 &&
+          in.read(reinterpret_cast<char*>(&stored_hash), sizeof(stored_hash)) &&
+          stored_hash == hash && ReadMap(in, &maps.camera) && ReadMap(in, &maps.projector) &&
+          in.read(reinterpret_cast<char*>(&step), sizeof(step)) &&
+          in.read(reinterpret_cast<char*>(grid_dims), sizeof(grid_dims)) && grid_dims[0] > 0 &&
+          grid_dims[1] > 0 && grid_dims[0] < 100000 && grid_dims[1] < 100000) {
+        maps.grid.step_rad = step;
+        maps.grid.n_theta = grid_dims[0];
+        maps.grid.n_phi = grid_dims[1];
+        const uint64_t n = static_cast<uint64_t>(grid_dims[0]) * grid_dims[1];
+        if (ReadVector(in, &maps.grid.px, n) && maps.grid.px.size() == n &&
+            ReadVector(in, &maps.grid.py, n) && maps.grid.py.size() == n &&
+            maps.camera.width == optics.camera().params().width &&
+            maps.projector.width == optics.projector().params().width) {
+          return maps;
+        }
+      }
+    }
+  }
+  RigMaps maps = BuildRigMaps(optics, progress);
+  std::error_code ec;
+  std::filesystem::create_directories(cache_dir, ec);
+  const std::filesystem::path tmp =
+      path.string() + ".tmp" + std::to_string(static_cast<long long>(getpid()));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return maps;  // an unwritable cache only costs time
+    out.write("ZBRDFMAP", 8);
+    out.write(reinterpret_cast<const char*>(&hash), sizeof(hash));
+    WriteMap(out, maps.camera);
+    WriteMap(out, maps.projector);
+    out.write(reinterpret_cast<const char*>(&maps.grid.step_rad), sizeof(maps.grid.step_rad));
+    const int32_t grid_dims[2] = {maps.grid.n_theta, maps.grid.n_phi};
+    out.write(reinterpret_cast<const char*>(grid_dims), sizeof(grid_dims));
+    WriteVector(out, maps.grid.px);
+    WriteVector(out, maps.grid.py);
+    if (!out) {
+      out.close();
+      std::filesystem::remove(tmp, ec);
+      return maps;
+    }
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) std::filesystem::remove(tmp, ec);
+  return maps;
+}
+
+int BayerChannel(PixelLayout layout, int x, int y) {
+  const int odd_x = x & 1, odd_y = y & 1;
+  // Channel of the 2x2 cell position (row, col) for each pattern, as named row-major.
+  auto pick = [&](const char* pattern) {
+    const char c = pattern[odd_y * 2 + odd_x];
+    return c == 'R' ? 0 : (c == 'G' ? 1 : 2);
+  };
+  switch (layout) {
+    case PixelLayout::kBayerRGGB: return pick("RGGB");
+    case PixelLayout::kBayerGRBG: return pick("GRBG");
+    case PixelLayout::kBayerGBRG: return pick("GBRG");
+    case PixelLayout::kBayerBGGR: return pick("BGGR");
+    default: return -1;
+  }
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,68 @@
+// Pixel <-> direction maps of the rig, from ray tracing through the optics.
+//
+// Camera map: each camera pixel's exitant direction w_r at the sample, the solid angle its
+// footprint covers in direction space, and its throughput (the fraction of rays over the
+// pixel area and the lens aperture that land on the sample). Projector map: the same for
+// projector pixels (incident directions w_i). Direction grid: the inverse of the projector map,
+// found by tracing from the sample center outward, for "which projector pixel lights the
+// sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
+//
+// These are the nominal maps of a rig description; calibration (calibration/) estimates the
+// maps of a real, misaligned rig with the same types.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "basis/progress.h"
+#include "basis/vec3.h"
+#include "simulate/optics.h"
+
+namespace zbrdf {
+
+struct DirectionMap {
+  int width = 0, height = 0;
+  std::vector<float> direction;       // 3 per pixel: mean landed direction (unit); 0 if invalid
+  std::vector<float> throughput;      // fraction of pixel-area x aperture rays landing (0..1)
+  std::vector<float> solid_angle_sr;  // footprint in direction space; 0 if unknown
+
+  int size() const { return width * height; }
+  bool Valid(int pixel) const { return throughput[pixel] > 0; }
+  Vec3 Direction(int pixel) const {
+    return {direction[3 * pixel], direction[3 * pixel + 1], direction[3 * pixel + 2]};
+  }
+};
+
+// Continuous projector pixel coordinates of the ray that reaches the sample center from w, on
+// a (theta, phi) grid over the upper hemisphere.
+struct ProjectorDirectionGrid {
+  double step_rad = 0;
+  int n_theta = 0, n_phi = 0;  // nodes: theta = i * step (i < n_theta), phi = j * step
+  std::vector<float> px, py;   // NaN where that direction does not reach the projector
+
+  // Bilinear interpolation of the coordinates between the four surrounding nodes; false if
+  // any of them is uncovered (callers trace such directions exactly).
+  bool Lookup(const Vec3& w, double* px_out, double* py_out) const;
+};
+
+struct RigMaps {
+  DirectionMap camera, projector;
+  ProjectorDirectionGrid grid;
+};
+
+// Traces all maps (parallel). Deterministic.
+RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progress = nullptr);
+
+// $ZBRDF_CACHE_DIR, else $XDG_CACHE_HOME/zbrdf, else $HOME/.cache/zbrdf, else /tmp/zbrdf-cache.
+std::string DefaultCacheDir();
+
+// Loads the maps for this rig from cache_dir, or builds and stores them there (atomically).
+// A cache file that is unreadable or from another rig is rebuilt, never trusted.
+RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache_dir,
+                           const ProgressCallback& progress = nullptr);
+
+// Bayer channel (0 R, 1 G, 2 B) of a camera pixel; -1 for mono sensors.
+int BayerChannel(PixelLayout layout, int x, int y);
+
+}  // namespace zbrdf

@@ -1,0 +1,459 @@
+#include "simulate/imaging.h"
+
+#include <algorithm>
+#include <span>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "basis/error.h"
+#include "basis/parallel.h"
+#include "basis/zone.h"
+
+namespace zbrdf {
+
+uint64_t HashMix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+namespace {
+
+// Per-pixel sample points. Each pair of dimensions (pixel jitter, lens aperture, direction of
+// the uniform strategy, direction of the lobe strategy) is a 2-D Hammersley set with a random
+// digital shift (a scrambled (0,m,2)-net in base 2 when the count is a power of two); sets are
+// paired by random permutations (Owen's padding). Seeded per pixel: deterministic.
+uint32_t ReverseBits(uint32_t v) {
+  v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+  v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+  v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+  v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+  return (v >> 16) | (v << 16);
+}
+
+struct PointSet2 {
+  std::vector<double> u, v;
+};
+
+// n points of a 2-D Hammersley set, digitally shifted by random masks, in random order.
+void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
+  out->u.resize(n);
+  out->v.resize(n);
+  if (n <= 0) return;
+  state = HashMix(state);
+  const uint32_t mask_u = static_cast<uint32_t>(state), mask_v = static_cast<uint32_t>(state >> 32);
+  state = HashMix(state);
+  const double shift = UniformFromHash(state);
+  const bool power_of_two = (n & (n - 1)) == 0;
+  int bits = 0;
+  while ((1 << bits) < n) ++bits;
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  for (int i = n - 1; i > 0; --i) {
+    state = HashMix(state);
+    std::swap(order[i], order[static_cast<int>(state % static_cast<uint64_t>(i + 1))]);
+  }
+  for (int k = 0; k < n; ++k) {
+    const int i = order[k];
+    if (power_of_two) {
+      const uint32_t first = bits == 0 ? 0u : static_cast<uint32_t>(i) << (32 - bits);
+      out->u[k] = (first ^ mask_u) * 0x1.0p-32;
+    } else {
+      out->u[k] = std::fmod((i + shift) / n, 1.0);
+    }
+    out->v[k] = (ReverseBits(static_cast<uint32_t>(i)) ^ mask_v) * 0x1.0p-32;
+  }
+}
+
+struct Entry {
+  uint32_t index;
+  float weight;
+};
+
+// The directions that reach the projector, as one theta interval per azimuth column of the
+// direction grid, with the interval ends found exactly (bisection on traced rays). Samples are
+// cosine-weighted over the union (density cos(theta) / C).
+class Coverage {
+ public:
+  Coverage(const ProjectorDirectionGrid& grid, const std::function<bool(const Vec3&)>& covered)
+      : step_(grid.step_rad), n_phi_(grid.n_phi) {
+    lo_.assign(n_phi_, 0.0);
+    hi_.assign(n_phi_, 0.0);
+    cdf_.assign(n_phi_ + 1, 0.0);
+    double total = 0;
+    for (int j = 0; j < n_phi_; ++j) {
+      const double phi = (j + 0.5) * step_;
+      int first = -1, last = -1;
+      for (int i = 0; i < grid.n_theta; ++i) {
+        const size_t k = static_cast<size_t>(i) * n_phi_;
+        const bool node = !std::isnan(grid.px[k + j]) || !std::isnan(grid.px[k + (j + 1) % n_phi_]);
+        if (node) {
+          if (first < 0) first = i;
+          last = i;
+        }
+      }
+      if (first >= 0) {
+        auto at = [&](double theta) { return covered(SphericalDirection(theta, phi)); };
+        // Bisect between an uncovered and a covered angle at each end.
+        auto refine = [&](double outside, double inside) {
+          if (at(outside)) return outside;
+          if (!at(inside)) return inside;
+          for (int it = 0; it < 40; ++it) {
+            const double mid = 0.5 * (outside + inside);
+            (at(mid) ? inside : outside) = mid;
+          }
+          return inside;
+        };
+        lo_[j] = refine(std::max(0.0, (first - 1) * step_), first * step_);
+        hi_[j] = refine(std::min(M_PI / 2, (last + 1) * step_), last * step_);
+        if (hi_[j] < lo_[j]) hi_[j] = lo_[j];
+        theta_min_ = std::min(theta_min_, lo_[j]);
+        theta_max_ = std::max(theta_max_, hi_[j]);
+      }
+      // Projected solid angle of the column: integral cos(theta) dw = (sin^2 hi - sin^2 lo) / 2.
+      total += 0.5 * (Sin2(hi_[j]) - Sin2(lo_[j])) * step_;
+      cdf_[j + 1] = total;
+    }
+    if (!(total > 0)) throw NumericalError("no direction of the hemisphere reaches the projector");
+    for (double& c : cdf_) c /= total;
+    inverse_projected_solid_angle_ = 1.0 / total;
+  }
+
+  Vec3 Sample(double u0, double u1) const {
+    int j = static_cast<int>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin()) - 1;
+    j = std::clamp(j, 0, n_phi_ - 1);
+    while (cdf_[j + 1] <= cdf_[j] && j + 1 < n_phi_) ++j;
+    const double t = std::clamp((u0 - cdf_[j]) / (cdf_[j + 1] - cdf_[j]), 0.0, 1.0);
+    const double phi = (j + t) * step_;
+    // sin^2(theta) is uniform for a cosine-weighted density.
+    const double sin2 = Sin2(lo_[j]) + u1 * (Sin2(hi_[j]) - Sin2(lo_[j]));
+    const double sin_theta = std::sqrt(sin2), cos_theta = std::sqrt(std::max(0.0, 1 - sin2));
+    return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+  }
+
+  double Pdf(const Vec3& w) const {
+    if (w.z <= 0) return 0;
+    const int j = Column(w);
+    const double theta = SphericalTheta(w);
+    return theta >= lo_[j] && theta <= hi_[j] ? w.z * inverse_projected_solid_angle_ : 0.0;
+  }
+
+  double theta_min() const { return theta_min_; }
+  double theta_max() const { return theta_max_; }
+
+ private:
+  int Column(const Vec3& w) const {
+    return std::min(static_cast<int>(SphericalPhi(w) / step_), n_phi_ - 1);
+  }
+  static double Sin2(double theta) { return std::sin(theta) * std::sin(theta); }
+  double step_;
+  int n_phi_;
+  std::vector<double> lo_, hi_, cdf_;
+  double inverse_projected_solid_angle_ = 0;
+  double theta_min_ = M_PI, theta_max_ = 0;
+};
+
+}  // namespace
+
+ForwardModel::ForwardModel(const OpticalSystem& optics, const RigMaps& maps, const Brdf& material,
+                           const ForwardModelOptions& options)
+    : optics_(optics), maps_(maps), options_(options) {
+  if (options.row_stride < 1) throw InputError("forward model row_stride must be >= 1");
+  const auto start = std::chrono::steady_clock::now();
+  const Rig& rig = optics.rig();
+  const ThinLens& camera = optics.camera();
+  const int width = rig.camera.width, height = rig.camera.height;
+  camera_constant_.resize(static_cast<size_t>(width) * height);
+  const double transmission =
+      rig.beam_splitter_transmission * rig.mirror_reflectance * rig.mirror_reflectance;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      camera_constant_[y * width + x] = camera.PixelEtendue(x + 0.5, y + 0.5) * transmission *
+                                        rig.sensor.quantum_efficiency * kPhotonsPerJoule550nm;
+    }
+  }
+  BuildTransport(material);
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double ForwardModel::ProjectorPathTransmission() const {
+  const Rig& rig = optics_.rig();
+  return rig.beam_splitter_reflection * rig.mirror_reflectance * rig.mirror_reflectance;
+}
+
+void ForwardModel::BuildTransport(const Brdf& material) {
+  const Rig& rig = optics_.rig();
+  const ThinLens& camera = optics_.camera();
+  const ThinLens& projector = optics_.projector();
+  const int width = rig.camera.width, height = rig.camera.height;
+  const int proj_w = rig.projector.lens.width, proj_h = rig.projector.lens.height;
+  const int n = rig.simulation.samples_per_pixel;
+  const int n_aperture = std::min(n, rig.simulation.aperture_samples);
+  const bool delta = material.IsDelta();
+
+  // Which projector pixel lights the sample point from w_i (-1: none). The direction grid is
+  // exact enough inside the lit zone; near its edge, and for a delta material's exact paths,
+  // the ray is traced.
+  auto projector_pixel = [&](const Vec3& point, const Vec3& w_i, bool exact) -> int64_t {
+    double px, py;
+    if (exact || !maps_.grid.Lookup(w_i, &px, &py)) {
+      const auto path = optics_.TraceFromSample(point, w_i);
+      if (!path.reached) return -1;
+      const auto proj = projector.Project(path.at_lens);
+      if (!proj.in_front || !proj.in_aperture) return -1;
+      px = proj.px;
+      py = proj.py;
+    }
+    if (px < 0 || py < 0 || px >= proj_w || py >= proj_h) return -1;
+    return static_cast<int64_t>(py) * proj_w + static_cast<int64_t>(px);
+  };
+  // Two strategies (Veach 1997), combined by the balance heuristic: cosine-weighted over the
+  // lit directions, which integrates diffuse parts almost exactly and never wastes a sample
+  // outside the zone; and the glossy part of the material's sampler (Brdf::SampleGlossy), for
+  // peaks. The split follows the material's glossy probability at the pixel, within
+  // [1/4, 3/4]; a material without a glossy part gets only the first.
+  const Coverage coverage(maps_.grid, [&](const Vec3& w) {
+    return projector_pixel({0, 0, 0}, w, true) >= 0;
+  });
+
+  std::vector<std::vector<Entry>> rows(height);
+  const size_t pixels = static_cast<size_t>(width) * height;
+  std::vector<int64_t> count(pixels, 0);  // entries per camera pixel (each written by one thread)
+  std::atomic<long> rows_done{0};
+  ParallelFor(height, 2, [&](int64_t y0, int64_t y1) {
+    std::vector<Entry> entries;
+    PointSet2 jitter, aperture, zone_dirs, lobe_dirs;
+    std::vector<OpticalSystem::SamplePath> paths(n_aperture);
+    std::vector<Vec3> w_in(n), w_out(n);
+    std::vector<Rgb> f(n);
+    std::vector<double> weight(n);
+    for (int64_t y = y0; y < y1; ++y) {
+      std::vector<Entry>& row = rows[y];
+      for (int x = 0; x < width; ++x) {
+        const int pixel = static_cast<int>(y) * width + x;
+        if (!maps_.camera.Valid(pixel) || y % options_.row_stride != 0) continue;
+        const int channel = BayerChannel(rig.sensor.layout, x, static_cast<int>(y));
+        uint64_t state = HashMix(options_.seed ^ HashMix(static_cast<uint64_t>(pixel) + 0x51ed2701ull));
+        const double glossy = delta ? 1.0 : material.GlossyProbability(maps_.camera.Direction(pixel));
+        const int n_lobe = delta ? n
+                           : glossy > 0 ? static_cast<int>(std::lround(n * std::clamp(glossy, 0.25, 0.75)))
+                                        : 0;
+        const int n_zone = n - n_lobe;
+        ScrambledHammersley(n_aperture, state, &jitter);
+        ScrambledHammersley(n_aperture, state, &aperture);
+        ScrambledHammersley(n_zone, state, &zone_dirs);
+        ScrambledHammersley(n_lobe, state, &lobe_dirs);
+        state = HashMix(state);
+        const double lobe_shift = UniformFromHash(state);
+        // Rays over the pixel area and lens aperture. The pixel's throughput (the fraction of
+        // such rays that land on the sample) comes from the camera map, traced with many rays
+        // at the rim; directions go to the landed rays only, and are scaled by it.
+        int landed = 0;
+        for (int attempt = 0; attempt < 4 && landed == 0; ++attempt) {
+          if (attempt > 0) {
+            ScrambledHammersley(n_aperture, state, &jitter);
+            ScrambledHammersley(n_aperture, state, &aperture);
+          }
+          for (int a = 0; a < n_aperture; ++a) {
+            const auto path = optics_.TraceToSample(camera.GenerateRay(
+                x + jitter.u[a], y + jitter.v[a], aperture.u[a], aperture.v[a]));
+            if (path.status == OpticalSystem::PathStatus::kLanded) paths[landed++] = path;
+          }
+        }
+        if (landed == 0) continue;
+        const double k = camera_constant_[pixel] * maps_.camera.throughput[pixel];
+        entries.clear();
+        if (delta) {
+          for (int s = 0; s < n; ++s) {
+            const auto& path = paths[s % landed];
+            const BrdfSample bs = material.Sample(path.w, 0.5, lobe_dirs.u[s], lobe_dirs.v[s]);
+            if (bs.pdf <= 0 || !bs.is_delta || bs.w_i.z <= 0) continue;
+            const int64_t index = projector_pixel(path.landing_point, bs.w_i, true);
+            if (index < 0) continue;
+            const double r =
+                channel < 0 ? bs.delta_reflectance.Luminance() : bs.delta_reflectance[channel];
+            entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k * r / n)});
+          }
+        } else {
+          int m = 0;  // samples kept for evaluation
+          for (int s = 0; s < n; ++s) {
+            const auto& path = paths[s % landed];
+            const bool uniform = s < n_zone;
+            Vec3 w_i;
+            if (uniform) {
+              w_i = coverage.Sample(zone_dirs.u[s], zone_dirs.v[s]);
+            } else {
+              const int j = s - n_zone;
+              const double u_lobe = std::fmod((j + lobe_shift) / n_lobe, 1.0);
+              const BrdfSample bs =
+                  material.SampleGlossy(path.w, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
+              if (bs.pdf <= 0 || bs.is_delta) continue;
+              w_i = bs.w_i;
+            }
+            if (w_i.z <= 0) continue;
+            const double p_zone = coverage.Pdf(w_i);
+            if (p_zone <= 0) continue;  // not lit
+            const double q = n_zone * p_zone + (n_lobe > 0 ? n_lobe * material.GlossyPdf(path.w, w_i) : 0.0);
+            weight[m] = 1.0 / q;  // balance heuristic: f cos / (n_zone p_zone + n_lobe p_lobe)
+            if (!(weight[m] > 0) || !std::isfinite(weight[m])) continue;
+            w_in[m] = w_i;
+            w_out[m] = path.w;
+            ++m;
+          }
+          material.EvalBatch(std::span<const Vec3>(w_in.data(), m),
+                             std::span<const Vec3>(w_out.data(), m), std::span<Rgb>(f.data(), m));
+          for (int i = 0; i < m; ++i) {
+            const double value =
+                (channel < 0 ? f[i].Luminance() : f[i][channel]) * w_in[i].z * weight[i];
+            if (!(value > 0) || !std::isfinite(value)) continue;
+            const int64_t index = projector_pixel({0, 0, 0}, w_in[i], false);
+            if (index < 0) continue;
+            entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k * value)});
+          }
+        }
+        // Merge repeated projector pixels.
+        std::sort(entries.begin(), entries.end(),
+                  [](const Entry& a, const Entry& b) { return a.index < b.index; });
+        const size_t begin_of_pixel = row.size();
+        for (const Entry& e : entries) {
+          if (row.size() > begin_of_pixel && row.back().index == e.index) {
+            row.back().weight += e.weight;
+          } else {
+            row.push_back(e);
+          }
+        }
+        count[pixel] = static_cast<int64_t>(row.size() - begin_of_pixel);
+      }
+      Report(options_.progress, {"transport", ++rows_done, height, "rows"});
+    }
+  });
+  // Flatten rows into CSR, in pixel order (deterministic regardless of threading).
+  row_begin_.assign(pixels + 1, 0);
+  size_t total = 0;
+  for (const auto& row : rows) total += row.size();
+  index_.reserve(total);
+  weight_.reserve(total);
+  for (auto& row : rows) {
+    for (const Entry& e : row) {
+      index_.push_back(e.index);
+      weight_.push_back(e.weight);
+    }
+    std::vector<Entry>().swap(row);
+  }
+  int64_t offset = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    row_begin_[p] = offset;
+    offset += count[p];
+  }
+  row_begin_[pixels] = offset;
+  ZBRDF_ASSERT(offset == static_cast<int64_t>(index_.size()), "transport bookkeeping");
+}
+
+std::vector<float> ForwardModel::ProjectorRadiance(const Pattern& pattern) const {
+  const ProjectorParams& p = optics_.rig().projector;
+  if (pattern.width != p.lens.width || pattern.height != p.lens.height ||
+      pattern.levels.size() != static_cast<size_t>(pattern.width) * pattern.height) {
+    throw InputError("pattern is " + std::to_string(pattern.width) + "x" +
+                     std::to_string(pattern.height) + " but the projector is " +
+                     std::to_string(p.lens.width) + "x" + std::to_string(p.lens.height));
+  }
+  if (pattern.bit_depth != p.bit_depth) {
+    throw InputError("pattern has " + std::to_string(pattern.bit_depth) +
+                     " bits per level but the projector takes " + std::to_string(p.bit_depth));
+  }
+  const double max_level = std::ldexp(1.0, p.bit_depth) - 1;
+  // Response of every level, once.
+  std::vector<double> response(static_cast<size_t>(max_level) + 1);
+  for (size_t level = 0; level < response.size(); ++level) {
+    response[level] = p.black_level + (1 - p.black_level) * p.Response(level / max_level);
+  }
+  const double scale = p.peak_radiance_w_m2_sr * ProjectorPathTransmission();
+  std::vector<float> radiance(pattern.levels.size());
+  for (int y = 0; y < pattern.height; ++y) {
+    for (int x = 0; x < pattern.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * pattern.width + x;
+      const uint16_t level = pattern.levels[i];
+      if (level > max_level) {
+        throw InputError("pattern level " + std::to_string(level) + " at pixel (" +
+                         std::to_string(x) + ", " + std::to_string(y) + ") exceeds " +
+                         std::to_string(static_cast<int>(max_level)));
+      }
+      radiance[i] = static_cast<float>(scale * response[level] * p.FlatField(x + 0.5, y + 0.5));
+    }
+  }
+  return radiance;
+}
+
+std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
+  const std::vector<float> radiance = ProjectorRadiance(pattern);
+  const int64_t pixels = static_cast<int64_t>(row_begin_.size()) - 1;
+  std::vector<float> rate(pixels, 0.0f);
+  ParallelFor(pixels, 4096, [&](int64_t p0, int64_t p1) {
+    for (int64_t p = p0; p < p1; ++p) {
+      double sum = 0;
+      for (int64_t e = row_begin_[p]; e < row_begin_[p + 1]; ++e) {
+        sum += static_cast<double>(weight_[e]) * radiance[index_[e]];
+      }
+      rate[p] = static_cast<float>(sum);
+    }
+  });
+  return rate;
+}
+
+Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, double exposure_us,
+                                   uint64_t noise_key, bool add_noise) const {
+  const Rig& rig = optics_.rig();
+  const SensorParams& s = rig.sensor;
+  Frame frame;
+  frame.width = rig.camera.width;
+  frame.height = rig.camera.height;
+  frame.layout = s.layout;
+  frame.bit_depth = s.bit_depth;
+  frame.exposure_us = exposure_us;
+  frame.gain = s.gain_e_per_dn;
+  frame.data.resize(electron_rate.size());
+  const double exposure_s = exposure_us * 1e-6;
+  const double max_dn = std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1);
+  const uint64_t key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
+  ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, [&](int64_t p0, int64_t p1) {
+    for (int64_t p = p0; p < p1; ++p) {
+      double electrons = std::max(0.0, static_cast<double>(electron_rate[p]) * exposure_s);
+      double read = 0;
+      if (add_noise) {
+        uint64_t h = HashMix(key + static_cast<uint64_t>(p) * 0x9e3779b97f4a7c15ull);
+        auto next = [&h]() {
+          h = HashMix(h);
+          return UniformFromHash(h);
+        };
+        if (electrons < 30) {
+          // Poisson by multiplication of uniforms (Knuth), exact for small means.
+          const double limit = std::exp(-electrons);
+          double product = next();
+          int count = 0;
+          while (product > limit && count < 1000) {
+            product *= next();
+            ++count;
+          }
+          electrons = count;
+        } else {
+          // Normal approximation N(mu, mu) (Box-Muller): variance exact, skew < 1/sqrt(30).
+          const double u1 = std::max(next(), 1e-300), u2 = next();
+          electrons += std::sqrt(electrons) * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+          electrons = std::max(0.0, electrons);
+        }
+        const double u1 = std::max(next(), 1e-300), u2 = next();
+        read = s.read_noise_e * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+      }
+      electrons = std::min(electrons, s.full_well_e);
+      const double dn = s.dark_level_dn + (electrons + read) / s.gain_e_per_dn;
+      frame.data[p] = static_cast<uint16_t>(std::clamp(std::nearbyint(dn), 0.0, max_dn));
+    }
+  });
+  return frame;
+}
+
+}  // namespace zbrdf

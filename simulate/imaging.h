@@ -1,0 +1,93 @@
+// Forward imaging: raw camera frames of a material under projector patterns.
+//
+// Each camera pixel integrates f_r(w_i, w_r) cos(theta_i) L_i(w_i) over incident directions,
+// over the pixel's area and over the lens aperture (which spreads w_r). L_i(w_i) is the
+// radiance of the projector pixel that lights the sample center from w_i (pattern level through
+// the projector response, flat field, beam splitter and mirror reflectances). The integral is
+// estimated once per material with a fixed set of samples per pixel: a quasi-random set over the
+// directions that reach the projector plus samples from the material's lobe, combined by
+// multiple importance sampling (Veach 1997), each from a scrambled (0,m,2)-net. The samples do
+// not depend on the pattern, so a frame is a linear function of it: the estimate is stored as a
+// sparse transport matrix (camera pixel x projector pixel) and a frame is one sparse product,
+// followed by the sensor model (shot and read noise, black level, full well, quantization,
+// clipping) on the Bayer mosaic.
+//
+// For a delta material (a flat mirror) each aperture ray is followed exactly from where it
+// lands, through the mirrors to the projector lens, so gray-code correspondences are exact.
+// Otherwise the incident light field is taken at the sample center, uniform over the small
+// footprint a pixel sees.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "basis/progress.h"
+#include "drivers/camera.h"
+#include "drivers/projector.h"
+#include "fitting/brdf.h"
+#include "simulate/direction_maps.h"
+#include "simulate/optics.h"
+
+namespace zbrdf {
+
+inline constexpr double kPhotonsPerJoule550nm = 2.7673e18;  // lambda / (h c) at 550 nm
+
+struct ForwardModelOptions {
+  uint64_t seed = 1;  // selects the sample points (and, with noise_key, the sensor noise)
+  // Integrate only camera rows y with y % row_stride == 0 (the others read 0): quick looks and
+  // convergence studies at many samples.
+  int row_stride = 1;
+  ProgressCallback progress;
+};
+
+class ForwardModel {
+ public:
+  // Builds the transport for `material` (kept by reference for the model's lifetime).
+  ForwardModel(const OpticalSystem& optics, const RigMaps& maps, const Brdf& material,
+               const ForwardModelOptions& options = {});
+
+  // Radiance (W m^-2 sr^-1) reaching the sample from each projector pixel under the pattern.
+  // Throws InputError if the pattern does not match the projector's size and bit depth.
+  std::vector<float> ProjectorRadiance(const Pattern& pattern) const;
+  // Mean photo-electrons per second at each camera pixel, noise-free and unclipped.
+  std::vector<float> ElectronRate(const Pattern& pattern) const;
+  // The raw frame for an electron rate and exposure. noise_key selects the noise realization;
+  // with add_noise false, only black level, full well, quantization and clipping apply.
+  Frame RenderFromRate(const std::vector<float>& electron_rate, double exposure_us,
+                       uint64_t noise_key, bool add_noise) const;
+  Frame Render(const Pattern& pattern, double exposure_us, uint64_t noise_key,
+               bool add_noise = true) const {
+    return RenderFromRate(ElectronRate(pattern), exposure_us, noise_key, add_noise);
+  }
+
+  // Electrons per second per unit sample radiance (W m^-2 sr^-1) at a camera pixel: etendue,
+  // beam splitter and mirror transmission, quantum efficiency. Excludes the pixel's throughput.
+  double CameraConstant(int pixel) const { return camera_constant_[pixel]; }
+  // Radiance reaching the sample per unit projector output (beam splitter, two mirrors).
+  double ProjectorPathTransmission() const;
+
+  size_t transport_entries() const { return index_.size(); }
+
+  double build_seconds() const { return build_seconds_; }
+  const OpticalSystem& optics() const { return optics_; }
+  const RigMaps& maps() const { return maps_; }
+
+ private:
+  void BuildTransport(const Brdf& material);
+
+  const OpticalSystem& optics_;
+  const RigMaps& maps_;
+  ForwardModelOptions options_;
+  std::vector<double> camera_constant_;
+  std::vector<int64_t> row_begin_;  // camera pixel -> first entry (size pixels + 1)
+  std::vector<uint32_t> index_;     // projector pixel
+  std::vector<float> weight_;       // electrons/s per unit projector-pixel radiance at the sample
+  double build_seconds_ = 0;
+};
+
+// Counter-based random numbers (SplitMix64): the same (key, index) always gives the same value.
+uint64_t HashMix(uint64_t x);
+inline double UniformFromHash(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
+
+}  // namespace zbrdf

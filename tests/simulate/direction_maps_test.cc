@@ -1,0 +1,100 @@
+#include "simulate/direction_maps.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "basis/zone.h"
+#include "tests/simulate/simulate_test_util.h"
+
+namespace zbrdf {
+namespace {
+
+TEST(DirectionMapsTest, CameraMapCoversTheZoneWithUnitDirections) {
+  const auto& shared = testing::SharedFastThesisRig();
+  const DirectionMap& cam = shared.maps.camera;
+  double theta_min = 10, theta_max = 0;
+  int valid = 0, full = 0;
+  for (int i = 0; i < cam.size(); ++i) {
+    if (!cam.Valid(i)) continue;
+    ++valid;
+    if (cam.throughput[i] == 1.0f) ++full;
+    const Vec3 w = cam.Direction(i);
+    EXPECT_NEAR(Length(w), 1.0, 1e-6);
+    theta_min = std::min(theta_min, SphericalTheta(w));
+    theta_max = std::max(theta_max, SphericalTheta(w));
+  }
+  EXPECT_GT(full, valid * 9 / 10);
+  EXPECT_NEAR(RadToDeg(theta_min), RadToDeg(shared.optics.design().zone_min_rad), 0.5);
+  EXPECT_NEAR(RadToDeg(theta_max), RadToDeg(shared.optics.design().zone_max_rad), 0.5);
+}
+
+TEST(DirectionMapsTest, PixelSolidAnglesSumToTheZone) {
+  // Interior pixels tile the zone's directions: the sum of their solid angles approximates the
+  // zone's 2 pi (cos theta_min - cos theta_max), less the edge pixels without a neighbour pair
+  // (a band about one pixel wide on each side, ~3% at the fast preset).
+  const auto& shared = testing::SharedFastThesisRig();
+  double sum = 0;
+  for (float s : shared.maps.camera.solid_angle_sr) sum += s;
+  const DomeDesign& d = shared.optics.design();
+  const double zone = 2 * M_PI * (std::cos(d.zone_min_rad) - std::cos(d.zone_max_rad));
+  EXPECT_NEAR(sum / zone, 1.0, 0.05);
+}
+
+TEST(DirectionMapsTest, GridLookupInvertsTheProjectorMap) {
+  const auto& shared = testing::SharedFastThesisRig();
+  const DirectionMap& proj = shared.maps.projector;
+  int checked = 0;
+  double worst = 0;
+  for (int y = 0; y < proj.height; ++y) {
+    for (int x = 0; x < proj.width; ++x) {
+      const int i = y * proj.width + x;
+      if (proj.throughput[i] < 1.0f) continue;
+      // The chief ray of the pixel center lands at the sample center from this direction.
+      const auto path =
+          shared.optics.TraceToSample(shared.optics.projector().ChiefRay(x + 0.5, y + 0.5));
+      if (path.status != OpticalSystem::PathStatus::kLanded) continue;
+      double px, py;
+      if (!shared.maps.grid.Lookup(path.w, &px, &py)) continue;
+      worst = std::max(worst, std::hypot(px - (x + 0.5), py - (y + 0.5)));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  // Bilinear interpolation of a smooth map on a 0.25 deg grid: well under a pixel.
+  EXPECT_LT(worst, 0.05);
+}
+
+TEST(DirectionMapsTest, CacheRoundTripsAndRejectsDamage) {
+  const auto& shared = testing::SharedFastThesisRig();
+  const std::string dir = testing::TestCacheDir() + "/roundtrip-" + std::to_string(::getpid());
+  std::filesystem::remove_all(dir);
+  const RigMaps built = LoadOrBuildRigMaps(shared.optics, dir);
+  const RigMaps loaded = LoadOrBuildRigMaps(shared.optics, dir);
+  EXPECT_EQ(built.camera.direction, loaded.camera.direction);
+  EXPECT_EQ(built.projector.throughput, loaded.projector.throughput);
+  EXPECT_EQ(built.grid.n_phi, loaded.grid.n_phi);
+  // Truncate the file: the maps are rebuilt, identical.
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    std::filesystem::resize_file(entry.path(), 1000);
+  }
+  const RigMaps rebuilt = LoadOrBuildRigMaps(shared.optics, dir);
+  EXPECT_EQ(rebuilt.camera.direction, built.camera.direction);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DirectionMapsTest, BayerChannels) {
+  EXPECT_EQ(BayerChannel(PixelLayout::kBayerRGGB, 0, 0), 0);
+  EXPECT_EQ(BayerChannel(PixelLayout::kBayerRGGB, 1, 0), 1);
+  EXPECT_EQ(BayerChannel(PixelLayout::kBayerRGGB, 0, 1), 1);
+  EXPECT_EQ(BayerChannel(PixelLayout::kBayerRGGB, 1, 1), 2);
+  EXPECT_EQ(BayerChannel(PixelLayout::kBayerBGGR, 0, 0), 2);
+  EXPECT_EQ(BayerChannel(PixelLayout::kBayerGRBG, 1, 0), 0);
+  EXPECT_EQ(BayerChannel(PixelLayout::kMono, 1, 0), -1);
+}
+
+}  // namespace
+}  // namespace zbrdf

@@ -1,0 +1,99 @@
+#include "simulate/virtual_rig.h"
+
+#include <gtest/gtest.h>
+
+#include "basis/error.h"
+#include "fitting/material_spec.h"
+#include "tests/simulate/simulate_test_util.h"
+
+namespace zbrdf {
+namespace {
+
+VirtualRig MakeRig(uint64_t seed) {
+  VirtualRig::Options options;
+  options.seed = seed;
+  options.cache_dir = testing::TestCacheDir();
+  return VirtualRig(ApplyPreset(LoadRig(testing::SourceRig("thesis.yaml")), Preset::kFast),
+                    MakeBrdf("lambert:0.3"), options);
+}
+
+Pattern White(const ProjectorInfo& info) {
+  Pattern p;
+  p.width = info.width;
+  p.height = info.height;
+  p.bit_depth = info.bit_depth;
+  p.levels.assign(static_cast<size_t>(p.width) * p.height, 255);
+  return p;
+}
+
+TEST(VirtualRigTest, TimingModelChargesFramePeriodExposureAndReadout) {
+  VirtualRig rig = MakeRig(1);
+  Camera& camera = rig.camera();
+  const int64_t t0 = rig.clock().NowUs();
+  camera.SetExposure(10000);
+  camera.Grab(std::chrono::milliseconds(1000));
+  // Exposure 10 ms + readout 30 ms.
+  EXPECT_EQ(rig.clock().NowUs() - t0, 40000);
+  camera.Grab(std::chrono::milliseconds(1000));
+  // The next frame starts one frame period (1/15 s) after the first: 66667 + 40000.
+  EXPECT_EQ(rig.clock().NowUs() - t0, 66667 + 40000);
+  camera.SetExposure(200000);
+  rig.clock().SleepUs(100000);  // a projector settle, charged by the session
+  const Frame f = camera.Grab(std::chrono::milliseconds(1000));
+  EXPECT_EQ(f.timestamp_us, t0 + 66667 + 40000 + 100000);
+  EXPECT_EQ(f.exposure_us, 200000);
+}
+
+TEST(VirtualRigTest, FramesShowWhatTheProjectorShowsAndRepeatForTheSameIndex) {
+  VirtualRig a = MakeRig(7), b = MakeRig(7);
+  for (VirtualRig* rig : {&a, &b}) {
+    rig->projector().Show(White(rig->projector().Info()));
+    rig->camera().SetExposure(20000);
+    rig->camera().SetNextFrameIndex(42);
+  }
+  const Frame fa = a.camera().Grab(std::chrono::milliseconds(100));
+  const Frame fb = b.camera().Grab(std::chrono::milliseconds(100));
+  EXPECT_EQ(fa.data, fb.data);
+  const CameraInfo info = a.camera().Info();
+  EXPECT_EQ(fa.width, info.width);
+  EXPECT_EQ(fa.layout, PixelLayout::kBayerRGGB);
+  // Dark projector: only the black level and noise.
+  VirtualRig dark = MakeRig(7);
+  dark.camera().SetExposure(20000);
+  const Frame fd = dark.camera().Grab(std::chrono::milliseconds(100));
+  double lit_sum = 0, dark_sum = 0;
+  for (size_t i = 0; i < fa.data.size(); ++i) {
+    lit_sum += fa.data[i];
+    dark_sum += fd.data[i];
+  }
+  EXPECT_GT(lit_sum, 1.2 * dark_sum);
+}
+
+TEST(VirtualRigTest, RejectsBadExposuresAndPatterns) {
+  VirtualRig rig = MakeRig(1);
+  EXPECT_THROW(rig.camera().SetExposure(-5), DeviceError);
+  EXPECT_THROW(rig.camera().SetExposure(1e9), DeviceError);
+  Pattern p = White(rig.projector().Info());
+  p.height += 1;
+  EXPECT_THROW(rig.projector().Show(p), InputError);
+}
+
+TEST(VirtualRigTest, SwappingTheMaterialChangesTheFrames) {
+  VirtualRig rig = MakeRig(3);
+  rig.projector().Show(White(rig.projector().Info()));
+  rig.camera().SetExposure(300);  // the fast preset's large pixels: ~3000 e- for albedo 0.9
+  rig.camera().SetNextFrameIndex(1);
+  const Frame gray = rig.camera().Grab(std::chrono::milliseconds(100));
+  rig.SetMaterial(MakeBrdf("lambert:0.9"));
+  rig.camera().SetNextFrameIndex(1);
+  const Frame white = rig.camera().Grab(std::chrono::milliseconds(100));
+  double g = 0, w = 0;
+  for (size_t i = 0; i < gray.data.size(); ++i) {
+    g += gray.data[i] - 64.0;
+    w += white.data[i] - 64.0;
+  }
+  EXPECT_NEAR(w / g, 3.0, 0.05);
+}
+
+}  // namespace
+}  // namespace zbrdf
