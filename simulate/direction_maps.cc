@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <mutex>
 
 #include "basis/error.h"
 #include "basis/parallel.h"
@@ -18,10 +19,14 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint32_t kCacheVersion = 3;
+constexpr uint32_t kCacheVersion = 7;
 
+// chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
+// the direction it lights the sample center from), else the mean of its landed rays (the
+// camera: what the pixel averages over its aperture).
 DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, int samples_1d,
-                            const std::string& stage, const ProgressCallback& progress) {
+                            bool chief_direction, const std::string& stage,
+                            const ProgressCallback& progress) {
   const ThinLensParams& p = lens.params();
   DirectionMap map;
   map.width = p.width;
@@ -44,10 +49,14 @@ DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, i
           landed = 0;
           samples = side * side;
           for (int s = 0; s < samples; ++s) {
+            // Aperture on a side x side grid; the pixel area on a second grid, paired by a
+            // fixed permutation, both symmetric about the center so that the mean direction is
+            // the center's.
             const double u0 = (s % side + 0.5) / side;
             const double u1 = (s / side + 0.5) / side;
-            const double jx = std::fmod(0.5 + s * 0.6180339887498949, 1.0);
-            const double jy = std::fmod(0.5 + s * 0.7548776662466927, 1.0);
+            const int t = (s * 7 + 3) % samples;
+            const double jx = (t % side + 0.5) / side;
+            const double jy = (t / side + 0.5) / side;
             const auto path = optics.TraceToSample(
                 lens.GenerateRay(x + jx, y + jy, samples > 1 ? u0 : -1, u1));
             if (path.status != OpticalSystem::PathStatus::kLanded) continue;
@@ -58,7 +67,11 @@ DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, i
         }
         const int index = static_cast<int>(y) * p.width + x;
         if (landed > 0) {
-          const Vec3 w = Normalize(sum);
+          Vec3 w = Normalize(sum);
+          if (chief_direction) {
+            const auto chief = optics.TraceToSample(lens.ChiefRay(x + 0.5, y + 0.5));
+            if (chief.status == OpticalSystem::PathStatus::kLanded) w = chief.w;
+          }
           map.direction[3 * index] = static_cast<float>(w.x);
           map.direction[3 * index + 1] = static_cast<float>(w.y);
           map.direction[3 * index + 2] = static_cast<float>(w.z);
@@ -127,6 +140,69 @@ ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
   return grid;
 }
 
+// Moments of each projector pixel's footprint in directions (see RigMaps), by a midpoint rule
+// in (cos theta, phi) with about 8 nodes across a pixel, over the lit directions.
+std::vector<float> FootprintMoments(const OpticalSystem& optics, const DirectionMap& projector,
+                                    const ProjectorDirectionGrid& grid,
+                                    const ProgressCallback& progress) {
+  const int width = projector.width, height = projector.height;
+  std::vector<double> sizes;
+  double theta_lo = M_PI, theta_hi = 0;
+  for (int i = 0; i < projector.size(); ++i) {
+    if (!projector.Valid(i) || projector.solid_angle_sr[i] <= 0) continue;
+    sizes.push_back(std::sqrt(projector.solid_angle_sr[i]));
+    const double theta = SphericalTheta(projector.Direction(i));
+    theta_lo = std::min(theta_lo, theta);
+    theta_hi = std::max(theta_hi, theta);
+  }
+  std::vector<float> moments(static_cast<size_t>(projector.size()) * kFootprintMoments, 0.0f);
+  if (sizes.empty()) return moments;
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 10, sizes.end());
+  const double step = sizes[sizes.size() / 10] / 8;  // the smaller pixels set the spacing
+  // Pad by a few pixels: the lit set's edge is found node by node.
+  theta_lo = std::max(0.0, theta_lo - 4 * sizes[sizes.size() / 10] - 2 * grid.step_rad);
+  theta_hi = std::min(M_PI / 2, theta_hi + 4 * sizes[sizes.size() / 10] + 2 * grid.step_rad);
+  const double cos_hi = std::cos(theta_lo), cos_lo = std::cos(theta_hi);
+  const int rows = std::max(1, static_cast<int>(std::ceil((theta_hi - theta_lo) / step)));
+  const double dcos = (cos_hi - cos_lo) / rows;
+  std::atomic<long> done{0};
+  std::vector<double> total(moments.size(), 0.0);
+  std::mutex mutex;
+  ParallelFor(rows, std::max(16, rows / 16), [&](int64_t r0, int64_t r1) {
+    std::vector<double> local(moments.size(), 0.0);
+    for (int64_t r = r0; r < r1; ++r) {
+      const double z = cos_hi - (r + 0.5) * dcos;
+      const double s = std::sqrt(std::max(0.0, 1 - z * z));
+      const int nodes = std::max(16, static_cast<int>(std::ceil(2 * M_PI * s / step)));
+      const double dphi = 2 * M_PI / nodes;
+      for (int n = 0; n < nodes; ++n) {
+        const double phi = (n + 0.5) * dphi;
+        const Vec3 w{s * std::cos(phi), s * std::sin(phi), z};
+        double px, py;
+        if (!grid.Lookup(w, &px, &py)) {
+          const auto path = optics.TraceFromSample({0, 0, 0}, w);
+          if (!path.reached) continue;
+          const auto proj = optics.projector().Project(path.at_lens);
+          if (!proj.in_front || !proj.in_aperture) continue;
+          px = proj.px;
+          py = proj.py;
+        }
+        if (px < 0 || py < 0 || px >= width || py >= height) continue;
+        const size_t j = static_cast<size_t>(py) * width + static_cast<size_t>(px);
+        double b[kFootprintMoments];
+        FootprintBasis(w, b);
+        const double weight = dcos * dphi * z;
+        for (int k = 0; k < kFootprintMoments; ++k) local[j * kFootprintMoments + k] += weight * b[k];
+      }
+      Report(progress, {"moments", ++done, rows, "rows"});
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    for (size_t i = 0; i < local.size(); ++i) total[i] += local[i];
+  });
+  for (size_t i = 0; i < total.size(); ++i) moments[i] = static_cast<float>(total[i]);
+  return moments;
+}
+
 template <typename T>
 void WriteVector(std::ofstream& out, const std::vector<T>& v) {
   const uint64_t n = v.size();
@@ -189,10 +265,12 @@ RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progre
   const int samples_1d =
       std::max(1, static_cast<int>(std::lround(std::sqrt(rig.simulation.aperture_samples))));
   RigMaps maps;
-  maps.camera = TraceDeviceMap(optics, optics.camera(), samples_1d, "camera map", progress);
+  maps.camera =
+      TraceDeviceMap(optics, optics.camera(), samples_1d, false, "camera map", progress);
   maps.projector =
-      TraceDeviceMap(optics, optics.projector(), samples_1d, "projector map", progress);
+      TraceDeviceMap(optics, optics.projector(), samples_1d, true, "projector map", progress);
   maps.grid = TraceGrid(optics, rig.simulation.direction_grid_deg, progress);
+  maps.projector_moments = FootprintMoments(optics, maps.projector, maps.grid, progress);
   return maps;
 }
 
@@ -230,6 +308,10 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
         const uint64_t n = static_cast<uint64_t>(grid_dims[0]) * grid_dims[1];
         if (ReadVector(in, &maps.grid.px, n) && maps.grid.px.size() == n &&
             ReadVector(in, &maps.grid.py, n) && maps.grid.py.size() == n &&
+            ReadVector(in, &maps.projector_moments,
+                       static_cast<uint64_t>(maps.projector.size()) * kFootprintMoments) &&
+            maps.projector_moments.size() ==
+                static_cast<size_t>(maps.projector.size()) * kFootprintMoments &&
             maps.camera.width == optics.camera().params().width &&
             maps.projector.width == optics.projector().params().width) {
           return maps;
@@ -254,6 +336,7 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
     out.write(reinterpret_cast<const char*>(grid_dims), sizeof(grid_dims));
     WriteVector(out, maps.grid.px);
     WriteVector(out, maps.grid.py);
+    WriteVector(out, maps.projector_moments);
     if (!out) {
       out.close();
       std::filesystem::remove(tmp, ec);
@@ -263,6 +346,42 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
   std::filesystem::rename(tmp, path, ec);
   if (ec) std::filesystem::remove(tmp, ec);
   return maps;
+}
+
+void NeighbourDirections(const std::vector<float>& direction,
+                         const std::vector<float>& valid_if_positive, int width, int height, int x,
+                         int y, Vec3 out[3][3]) {
+  auto at = [&](int px, int py, Vec3* d) {
+    if (px < 0 || py < 0 || px >= width || py >= height) return false;
+    const size_t i = static_cast<size_t>(py) * width + px;
+    if (!(valid_if_positive[i] > 0)) return false;
+    *d = {direction[3 * i], direction[3 * i + 1], direction[3 * i + 2]};
+    return true;
+  };
+  bool have[3][3];
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) have[dy + 1][dx + 1] = at(x + dx, y + dy, &out[dy + 1][dx + 1]);
+  }
+  const Vec3 c = out[1][1];
+  // Edge neighbours first (from the opposite edge neighbour), then corners (from the two
+  // adjacent edges: c + (e1 - c) + (e2 - c)).
+  for (auto [dy, dx] : {std::pair{0, -1}, {0, 1}, {-1, 0}, {1, 0}}) {
+    if (have[1 + dy][1 + dx]) continue;
+    out[1 + dy][1 + dx] = have[1 - dy][1 - dx] ? Normalize(2 * c - out[1 - dy][1 - dx]) : c;
+  }
+  for (int dy : {-1, 1}) {
+    for (int dx : {-1, 1}) {
+      if (have[1 + dy][1 + dx]) continue;
+      out[1 + dy][1 + dx] = Normalize(out[1][1 + dx] + out[1 + dy][1] - c);
+    }
+  }
+}
+
+Vec3 InterpolateFootprint(const Vec3 n[3][3], double fx, double fy) {
+  const int sx = fx < 0 ? -1 : 1, sy = fy < 0 ? -1 : 1;
+  const double ax = std::abs(fx), ay = std::abs(fy);
+  return Normalize(n[1][1] * ((1 - ax) * (1 - ay)) + n[1][1 + sx] * (ax * (1 - ay)) +
+                   n[1 + sy][1] * ((1 - ax) * ay) + n[1 + sy][1 + sx] * (ax * ay));
 }
 
 int BayerChannel(PixelLayout layout, int x, int y) {

@@ -1,9 +1,10 @@
 // Pixel <-> direction maps of the rig, from ray tracing through the optics.
 //
-// Camera map: each camera pixel's exitant direction w_r at the sample, the solid angle its
-// footprint covers in direction space, and its throughput (the fraction of rays over the
-// pixel area and the lens aperture that land on the sample). Projector map: the same for
-// projector pixels (incident directions w_i). Direction grid: the inverse of the projector map,
+// Camera map: each camera pixel's exitant direction w_r at the sample (the mean over the rays
+// across its area and lens aperture that land on the sample), the solid angle its footprint
+// covers in direction space, and its throughput (the fraction of those rays that land).
+// Projector map: the same for projector pixels, except that the direction is the chief ray's:
+// the direction the pixel lights the sample center from. Direction grid: the inverse of the projector map,
 // found by tracing from the sample center outward, for "which projector pixel lights the
 // sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
 //
@@ -46,9 +47,24 @@ struct ProjectorDirectionGrid {
   bool Lookup(const Vec3& w, double* px_out, double* py_out) const;
 };
 
+// Number of moments per projector pixel (see RigMaps::projector_moments).
+inline constexpr int kFootprintMoments = 5;
+// b_k(w) for w = (x, y, z): 1, z, z^2, x, y.
+inline void FootprintBasis(const Vec3& w, double b[kFootprintMoments]) {
+  b[0] = 1;
+  b[1] = w.z;
+  b[2] = w.z * w.z;
+  b[3] = w.x;
+  b[4] = w.y;
+}
+
 struct RigMaps {
   DirectionMap camera, projector;
   ProjectorDirectionGrid grid;
+  // Per projector pixel j and k < kFootprintMoments: integral over the directions j lights the
+  // sample center from of b_k(w) cos(theta) dw (sr), by a quadrature 8 points per pixel across.
+  // The simulator integrates the smooth part of a BRDF against any pattern with these exactly.
+  std::vector<float> projector_moments;
 };
 
 // Traces all maps (parallel). Deterministic.
@@ -61,6 +77,17 @@ std::string DefaultCacheDir();
 // A cache file that is unreadable or from another rig is rebuilt, never trusted.
 RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache_dir,
                            const ProgressCallback& progress = nullptr);
+
+// The directions of pixel (x, y) and its 8 neighbours, out[1 + dy][1 + dx], from a direction
+// map (3 floats per pixel; a pixel is valid where valid_if_positive > 0). A missing neighbour
+// is extrapolated linearly from the opposite side (2 c - opposite), or, with neither, taken as
+// the center's; so a footprint at the edge of the map keeps its true size.
+void NeighbourDirections(const std::vector<float>& direction,
+                         const std::vector<float>& valid_if_positive, int width, int height, int x,
+                         int y, Vec3 out[3][3]);
+// Direction at offset (fx, fy) in [-0.5, 0.5]^2 pixels from the center, bilinear between the
+// center and its neighbours.
+Vec3 InterpolateFootprint(const Vec3 neighbours[3][3], double fx, double fy);
 
 // Bayer channel (0 R, 1 G, 2 B) of a camera pixel; -1 for mono sensors.
 int BayerChannel(PixelLayout layout, int x, int y);

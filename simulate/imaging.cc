@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <span>
+
+#include <Eigen/Dense>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -219,6 +221,19 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   const Coverage coverage(maps_.grid, [&](const Vec3& w) {
     return projector_pixel({0, 0, 0}, w, true) >= 0;
   });
+  // Probe directions for the control variate: cosine-weighted over the lit directions.
+  constexpr int kProbes = 64;
+  std::vector<Vec3> probes;
+  {
+    uint64_t state = HashMix(options_.seed ^ 0x9b0be5ull);
+    PointSet2 points;
+    ScrambledHammersley(kProbes, state, &points);
+    for (int i = 0; i < kProbes; ++i) probes.push_back(coverage.Sample(points.u[i], points.v[i]));
+  }
+  std::vector<std::array<double, kFootprintMoments>> probe_basis(kProbes);
+  for (int i = 0; i < kProbes; ++i) FootprintBasis(probes[i], probe_basis[i].data());
+  const size_t camera_pixels = static_cast<size_t>(width) * height;
+  control_.assign(camera_pixels * kFootprintMoments, 0.0f);
 
   std::vector<std::vector<Entry>> rows(height);
   const size_t pixels = static_cast<size_t>(width) * height;
@@ -228,9 +243,10 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<Entry> entries;
     PointSet2 jitter, aperture, zone_dirs, lobe_dirs;
     std::vector<OpticalSystem::SamplePath> paths(n_aperture);
-    std::vector<Vec3> w_in(n), w_out(n);
-    std::vector<Rgb> f(n);
+    std::vector<Vec3> w_in(std::max(n, kProbes)), w_out(std::max(n, kProbes));
+    std::vector<Rgb> f(std::max(n, kProbes));
     std::vector<double> weight(n);
+    std::vector<std::pair<double, int>> probe_values(kProbes);
     for (int64_t y = y0; y < y1; ++y) {
       std::vector<Entry>& row = rows[y];
       for (int x = 0; x < width; ++x) {
@@ -265,7 +281,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           }
         }
         if (landed == 0) continue;
-        const double k = camera_constant_[pixel] * maps_.camera.throughput[pixel];
+        const double k_pixel = camera_constant_[pixel] * maps_.camera.throughput[pixel];
         entries.clear();
         if (delta) {
           for (int s = 0; s < n; ++s) {
@@ -276,9 +292,43 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             if (index < 0) continue;
             const double r =
                 channel < 0 ? bs.delta_reflectance.Luminance() : bs.delta_reflectance[channel];
-            entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k * r / n)});
+            entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k_pixel * r / n)});
           }
         } else {
+          // Control variate: least squares of f (the pixel's channel) at the probes, without
+          // the brightest quarter (a glossy peak is the lobe samples' job).
+          double coeff[kFootprintMoments] = {0, 0, 0, 0, 0};
+          {
+            const Vec3 w_r = maps_.camera.Direction(pixel);
+            for (int i = 0; i < kProbes; ++i) {
+              w_in[i] = probes[i];
+              w_out[i] = w_r;
+            }
+            material.EvalBatch(std::span<const Vec3>(w_in.data(), kProbes),
+                               std::span<const Vec3>(w_out.data(), kProbes),
+                               std::span<Rgb>(f.data(), kProbes));
+            for (int i = 0; i < kProbes; ++i) {
+              const double v = channel < 0 ? f[i].Luminance() : f[i][channel];
+              probe_values[i] = {std::isfinite(v) ? v : 0.0, i};
+            }
+            std::sort(probe_values.begin(), probe_values.end());
+            Eigen::Matrix<double, kFootprintMoments, kFootprintMoments> normal =
+                Eigen::Matrix<double, kFootprintMoments, kFootprintMoments>::Zero();
+            Eigen::Matrix<double, kFootprintMoments, 1> rhs =
+                Eigen::Matrix<double, kFootprintMoments, 1>::Zero();
+            for (int i = 0; i < kProbes * 3 / 4; ++i) {
+              const auto& b = probe_basis[probe_values[i].second];
+              const Eigen::Map<const Eigen::Matrix<double, kFootprintMoments, 1>> bv(b.data());
+              normal += bv * bv.transpose();
+              rhs += probe_values[i].first * bv;
+            }
+            normal.diagonal().array() += 1e-9 * (normal.trace() + 1e-30);
+            const Eigen::Matrix<double, kFootprintMoments, 1> c = normal.ldlt().solve(rhs);
+            for (int k = 0; k < kFootprintMoments; ++k) {
+              coeff[k] = std::isfinite(c(k)) ? c(k) : 0.0;
+              control_[pixel * kFootprintMoments + k] = static_cast<float>(k_pixel * coeff[k]);
+            }
+          }
           int m = 0;  // samples kept for evaluation
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
@@ -307,12 +357,16 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           material.EvalBatch(std::span<const Vec3>(w_in.data(), m),
                              std::span<const Vec3>(w_out.data(), m), std::span<Rgb>(f.data(), m));
           for (int i = 0; i < m; ++i) {
+            double b[kFootprintMoments];
+            FootprintBasis(w_in[i], b);
+            double control = 0;
+            for (int k = 0; k < kFootprintMoments; ++k) control += coeff[k] * b[k];
             const double value =
-                (channel < 0 ? f[i].Luminance() : f[i][channel]) * w_in[i].z * weight[i];
-            if (!(value > 0) || !std::isfinite(value)) continue;
+                ((channel < 0 ? f[i].Luminance() : f[i][channel]) - control) * w_in[i].z * weight[i];
+            if (value == 0 || !std::isfinite(value)) continue;
             const int64_t index = projector_pixel({0, 0, 0}, w_in[i], false);
             if (index < 0) continue;
-            entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k * value)});
+            entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k_pixel * value)});
           }
         }
         // Merge repeated projector pixels.
@@ -391,10 +445,19 @@ std::vector<float> ForwardModel::ProjectorRadiance(const Pattern& pattern) const
 std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
   const std::vector<float> radiance = ProjectorRadiance(pattern);
   const int64_t pixels = static_cast<int64_t>(row_begin_.size()) - 1;
+  // The pattern's footprint moments M_k = sum_j moments_jk L_j, for the control variates.
+  double moments[kFootprintMoments] = {0, 0, 0, 0, 0};
+  for (size_t j = 0; j < radiance.size(); ++j) {
+    if (radiance[j] == 0) continue;
+    for (int k = 0; k < kFootprintMoments; ++k) {
+      moments[k] += static_cast<double>(maps_.projector_moments[j * kFootprintMoments + k]) * radiance[j];
+    }
+  }
   std::vector<float> rate(pixels, 0.0f);
   ParallelFor(pixels, 4096, [&](int64_t p0, int64_t p1) {
     for (int64_t p = p0; p < p1; ++p) {
       double sum = 0;
+      for (int k = 0; k < kFootprintMoments; ++k) sum += control_[p * kFootprintMoments + k] * moments[k];
       for (int64_t e = row_begin_[p]; e < row_begin_[p + 1]; ++e) {
         sum += static_cast<double>(weight_[e]) * radiance[index_[e]];
       }

@@ -4,10 +4,15 @@
 // over the pixel's area and over the lens aperture (which spreads w_r). L_i(w_i) is the
 // radiance of the projector pixel that lights the sample center from w_i (pattern level through
 // the projector response, flat field, beam splitter and mirror reflectances). The integral is
-// estimated once per material with a fixed set of samples per pixel: a quasi-random set over the
-// directions that reach the projector plus samples from the material's lobe, combined by
-// multiple importance sampling (Veach 1997), each from a scrambled (0,m,2)-net. The samples do
-// not depend on the pattern, so a frame is a linear function of it: the estimate is stored as a
+// estimated once per material. Its smooth part is taken exactly: per camera pixel the BRDF is
+// fitted (least squares on probe directions, the brightest quarter left out) by a control
+// variate c(w_i) = sum_k c_k b_k(w_i) in b = (1, z, z^2, x, y), whose integral against any
+// pattern is sum_k c_k M_k with M_k from the projector pixels' footprint moments
+// (RigMaps::projector_moments); a Lambertian is then integrated exactly. The rest,
+// f - c, comes from a fixed set of samples per pixel: cosine-weighted over the directions that
+// reach the projector plus samples of the material's glossy lobe, combined by multiple
+// importance sampling (Veach 1997), each from a scrambled (0,m,2)-net. Nothing depends on the
+// pattern, so a frame is a linear function of it: the samples are stored as a
 // sparse transport matrix (camera pixel x projector pixel) and a frame is one sparse product,
 // followed by the sensor model (shot and read noise, black level, full well, quantization,
 // clipping) on the Bayer mosaic.
@@ -83,6 +88,8 @@ class ForwardModel {
   std::vector<int64_t> row_begin_;  // camera pixel -> first entry (size pixels + 1)
   std::vector<uint32_t> index_;     // projector pixel
   std::vector<float> weight_;       // electrons/s per unit projector-pixel radiance at the sample
+  // Per camera pixel, kFootprintMoments control-variate coefficients times the pixel's constant.
+  std::vector<float> control_;
   double build_seconds_ = 0;
 };
 

@@ -543,6 +543,12 @@ Rig ApplyPreset(const Rig& rig, Preset preset) {
   };
   shrink(out.camera);
   shrink(out.projector.lens);
+  // A fast pixel stands for the 4 x 4 full-resolution pixels it covers, as if binned: it holds
+  // their summed charge (full well x16, read noise x4 from 16 independent reads) and reports
+  // it on the same 12-bit scale (gain x16). Noise per unit of measured area is then the rig's.
+  out.sensor.full_well_e *= 16;
+  out.sensor.gain_e_per_dn *= 16;
+  out.sensor.read_noise_e *= 4;
   out.simulation.direction_grid_deg = std::max(rig.simulation.direction_grid_deg, 0.25);
   // Sixteen times fewer pixels buy twice the samples per pixel: frames converge to within 1%
   // (relative RMS) also for sharp materials (tests/simulate/imaging_test.cc).

@@ -124,8 +124,9 @@ enum class Preset { kFast, kFull };
 // "fast" or "full"; throws InputError otherwise.
 Preset ParsePreset(const std::string& name);
 // fast: camera and projector at 1/4 of their resolution (pixel pitch x4, same optics and field
-// of view), a coarser direction grid and twice the samples per pixel, for tests and quick
-// looks; full: the rig as described.
+// of view), the camera's pixels binned 4 x 4 (full well and gain x16, read noise x4), a
+// coarser direction grid and twice the samples per pixel, for tests and quick looks; full: the
+// rig as described.
 Rig ApplyPreset(const Rig& rig, Preset preset);
 
 }  // namespace zbrdf

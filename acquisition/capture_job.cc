@@ -1,0 +1,167 @@
+#include "acquisition/capture_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "basis/error.h"
+#include "simulate/direction_maps.h"
+
+namespace zbrdf {
+
+namespace {
+// Meter frames get plan indices of their own, far beyond any plan.
+constexpr uint64_t kMeterFrameIndex = 1ull << 40;
+}  // namespace
+
+double MeterExposure(Camera& camera, Projector& projector, Clock& clock,
+                     const RigCalibration& c, double settle_us) {
+  Pattern white;
+  white.width = c.projector_width;
+  white.height = c.projector_height;
+  white.bit_depth = c.projector_bit_depth;
+  white.levels.assign(static_cast<size_t>(white.width) * white.height,
+                      static_cast<uint16_t>((1 << c.projector_bit_depth) - 1));
+  projector.Show(white);
+  clock.SleepUs(static_cast<int64_t>(settle_us));
+  const CameraInfo info = camera.Info();
+  const double range = c.saturation_dn - c.black_dn;
+  double exposure = std::clamp(1000.0, info.min_exposure_us, info.max_exposure_us);
+  for (int attempt = 0; attempt < 12; ++attempt) {
+    exposure = camera.SetExposure(exposure);
+    camera.SetNextFrameIndex(kMeterFrameIndex + attempt);
+    const Frame f = camera.Grab(std::chrono::milliseconds(10000));
+    std::vector<float> signal;
+    for (size_t i = 0; i < f.data.size(); ++i) {
+      if (c.CameraValid(static_cast<int>(i))) signal.push_back(static_cast<float>(f.data[i] - c.black_dn));
+    }
+    if (signal.empty()) throw DeviceError("metering: the camera sees no valid pixel");
+    const size_t q = signal.size() * 999 / 1000;
+    std::nth_element(signal.begin(), signal.begin() + q, signal.end());
+    const double p999 = signal[q];
+    if (p999 >= 0.9 * range) {
+      exposure /= 16;  // saturated: much shorter
+    } else if (p999 < 0.02 * range) {
+      exposure *= 16;  // too dark to measure well
+    } else {
+      return std::clamp(exposure * 0.7 * range / p999, info.min_exposure_us, info.max_exposure_us);
+    }
+    if (exposure < info.min_exposure_us || exposure > info.max_exposure_us) break;
+    exposure = std::clamp(exposure, info.min_exposure_us, info.max_exposure_us);
+  }
+  throw DeviceError("metering failed: no exposure within the camera's limits brings the white "
+                    "pattern into the sensor's range; check the projector and the lens cap");
+}
+
+CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration, Camera& camera,
+                               Projector& projector, Clock& clock,
+                               const CaptureJobOptions& options) {
+  CaptureJobResult result;
+  const double settle_us = rig.timing.projector_settle_ms * 1e3;
+  SessionFolder session = options.resume ? SessionFolder::Open(options.out_dir)
+                                         : [&] {
+                                             if (options.out_dir.empty()) {
+                                               throw InputError("no output folder (--out)");
+                                             }
+                                             return SessionFolder::Create(options.out_dir,
+                                                                          nlohmann::json::object());
+                                           }();
+  if (options.resume) {
+    if (!session.session().contains("plan")) {
+      throw InputError("session " + options.out_dir + " has no plan in session.json; it cannot be resumed");
+    }
+    result.plan = CapturePlan::FromJson(session.session().at("plan"));
+    if (session.session().value("rig_hash", std::string()) != std::to_string(RigHash(rig))) {
+      throw InputError("session " + options.out_dir + " was captured with another rig "
+                       "description; resume it with the same --rig and --preset");
+    }
+  } else {
+    PlanOptions po;
+    double covered_lo, covered_hi;
+    calibration.CoveredThetaRange(&covered_lo, &covered_hi);
+    if (options.zone_min_deg >= 0 && options.zone_max_deg > 0) {
+      po.theta_min_rad = DegToRad(options.zone_min_deg);
+      po.theta_max_rad = DegToRad(options.zone_max_deg);
+      if (po.theta_min_rad < covered_lo - 1e-9 || po.theta_max_rad > covered_hi + 1e-9) {
+        throw InputError("zone [" + std::to_string(options.zone_min_deg) + ", " +
+                         std::to_string(options.zone_max_deg) + "] deg is not inside what the rig covers (" +
+                         std::to_string(RadToDeg(covered_lo)) + " to " +
+                         std::to_string(RadToDeg(covered_hi)) + " deg)");
+      }
+    } else {
+      // Projector pixels at the rims of the mirrors are partly vignetted and their footprints
+      // are known less well: keep the zone 1.5 projector pixels (at least 0.2 deg) inside.
+      const double pixel = std::max(calibration.ProjectorPixelSizeRad(covered_lo),
+                                    calibration.ProjectorPixelSizeRad(covered_hi));
+      DefaultZone(covered_lo, covered_hi, std::max(0.2, 1.5 * RadToDeg(pixel)), &po.theta_min_rad,
+                  &po.theta_max_rad);
+    }
+    po.order = options.order;
+    po.exposures = options.exposures;
+    po.stops_apart = options.stops_apart;
+    po.repeats = options.repeats;
+    result.metered_exposure_us = options.shortest_exposure_us > 0
+                                     ? options.shortest_exposure_us
+                                     : MeterExposure(camera, projector, clock, calibration, settle_us);
+    po.shortest_exposure_us = result.metered_exposure_us;
+    result.plan = MakePlan(po);
+    nlohmann::json info = options.session_extra.is_object() ? options.session_extra : nlohmann::json::object();
+    info["software"] = {{"name", "zbrdf"}, {"version", ZBRDF_VERSION_STRING}};
+    info["rig"] = WriteRigYaml(rig);
+    info["rig_name"] = rig.name;
+    info["rig_source"] = rig.source_path;
+    info["rig_hash"] = std::to_string(RigHash(rig));
+    info["calibration"] = calibration.source;
+    info["plan"] = result.plan.ToJson();
+    const CameraInfo ci = camera.Info();
+    const ProjectorInfo pi = projector.Info();
+    info["devices"] = {{"camera", {{"id", ci.id}, {"model", ci.model}, {"width", ci.width},
+                                   {"height", ci.height}, {"layout", PixelLayoutName(ci.layout)},
+                                   {"bit_depth", ci.bit_depth}}},
+                       {"projector", {{"id", pi.id}, {"model", pi.model}, {"width", pi.width},
+                                      {"height", pi.height}, {"bit_depth", pi.bit_depth}}}};
+    session.UpdateSession(info);
+  }
+  result.predicted_capture_time_s = PredictCaptureTimeS(result.plan, rig.timing);
+  Report(options.progress, {"plan", 1, 1, "steps"});
+
+  const auto pattern_start = std::chrono::steady_clock::now();
+  const PatternSet patterns(result.plan, calibration,
+                            options.pattern_cache_dir.empty() ? DefaultCacheDir() : options.pattern_cache_dir,
+                            options.progress);
+  result.pattern_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - pattern_start).count();
+
+  ProcessingOptions processing = options.processing;
+  processing.hdr_folder = session.path() + "/hdr";
+  ZonalProcessor processor(result.plan, patterns.lobes(), calibration, processing);
+  processor.Start();
+  CaptureOptions capture;
+  capture.settle_us = settle_us;
+  capture.progress = options.progress;
+  capture.interrupt = options.interrupt;
+  capture.on_lobe_complete = [&](int lobe, const std::vector<Frame>& frames) {
+    processor.AddLobe(lobe, frames);
+  };
+  const auto capture_start = std::chrono::steady_clock::now();
+  result.capture = RunCapture(session, result.plan, patterns, camera, projector, clock, capture);
+  result.wall_capture_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - capture_start).count();
+  if (result.capture.interrupted) return result;
+  result.zonal = processor.Finish();
+  result.processing = processor.stats();
+  result.zonal.attributes = {{"rig", rig.name},
+                             {"rig_hash", std::to_string(RigHash(rig))},
+                             {"calibration", calibration.source},
+                             {"session", session.path()},
+                             {"units", "z_k(w_r) = integral Z_k(w_i) f_r(w_i,w_r) cos(theta_i) dw_i "
+                                       "[sr^-1/2]; tensor z_kj = integral z_k Z_j dw_r"}};
+  for (const char* key : {"material", "seed", "preset"}) {
+    if (session.session().contains(key)) result.zonal.attributes[key] = session.session()[key];
+  }
+  WriteZonalExr(session.path() + "/zonal.exr", result.zonal);
+  result.complete = true;
+  return result;
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,65 @@
+// The main job: meter, plan, capture and process a session, on any Camera and Projector.
+//
+// `zbrdf simulate` runs it on the virtual rig, `zbrdf capture` on a rig file's devices (or the
+// virtual rig), and both resume an interrupted session from its journal. Exposure metering
+// shows a full-white pattern (no lobe pattern is brighter anywhere) and picks the shortest
+// exposure that keeps its brightest pixels (99.9th percentile) at 70% of the sensor's range;
+// the bracket then grows by 2^stops per exposure.
+#pragma once
+
+#include <atomic>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "acquisition/plan.h"
+#include "acquisition/processing.h"
+#include "acquisition/rig_calibration.h"
+#include "acquisition/session.h"
+#include "basis/progress.h"
+#include "drivers/camera.h"
+#include "drivers/clock.h"
+#include "drivers/projector.h"
+#include "simulate/rig.h"
+
+namespace zbrdf {
+
+struct CaptureJobOptions {
+  std::string out_dir;
+  bool resume = false;
+  int order = 4;
+  // < 0: the rig's coverage, 1.5 projector pixels (at least 0.2 deg) inside its edges.
+  double zone_min_deg = -1, zone_max_deg = -1;
+  int exposures = 3;
+  double stops_apart = 2;
+  double shortest_exposure_us = 0;  // 0: metered
+  int repeats = 1;
+  ProcessingOptions processing;     // hdr_folder is set to <out>/hdr
+  std::string pattern_cache_dir;    // "" : <cache>/zbrdf patterns (DefaultCacheDir())
+  ProgressCallback progress;
+  const std::atomic<bool>* interrupt = nullptr;
+  nlohmann::json session_extra;     // merged into session.json (material, seed, preset, ...)
+};
+
+struct CaptureJobResult {
+  CapturePlan plan;
+  CaptureResult capture;
+  ProcessingStats processing;
+  ZonalData zonal;                 // empty if the capture was interrupted
+  double predicted_capture_time_s = 0;
+  double wall_capture_s = 0;       // wall time of the capture loop (includes rendering frames)
+  double pattern_seconds = 0;
+  double metered_exposure_us = 0;
+  bool complete = false;
+};
+
+// Throws InputError for bad options or a session that cannot be resumed, DeviceError when a
+// device fails (the journal keeps what was captured: resume with options.resume).
+CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration, Camera& camera,
+                               Projector& projector, Clock& clock, const CaptureJobOptions& options);
+
+// The shortest exposure of the bracket, metered on a full-white pattern (see above).
+double MeterExposure(Camera& camera, Projector& projector, Clock& clock,
+                     const RigCalibration& calibration, double settle_us);
+
+}  // namespace zbrdf

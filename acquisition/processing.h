@@ -1,0 +1,80 @@
+// From a session's frames to zonal coefficients: HDR merge per lobe, lobe subtraction,
+// calibration, resampling onto the exitant grid, projection in w_r.
+//
+// ZonalProcessor takes the lobes in plan order (the dark pattern first), each as soon as its
+// exposures are in; with Start() it works on a background thread while the capture goes on.
+// Memory stays at a few images: a positive lobe waits only for its negative partner.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "acquisition/hdr.h"
+#include "acquisition/patterns.h"
+#include "acquisition/plan.h"
+#include "acquisition/rig_calibration.h"
+#include "acquisition/zonal.h"
+#include "drivers/camera.h"
+
+namespace zbrdf {
+
+struct ProcessingOptions {
+  double theta_step_deg = 1.0, phi_step_deg = 2.0;  // exitant grid
+  bool write_hdr_images = true;                     // hdr/<lobe>.exr under hdr_folder
+  std::string hdr_folder;
+  HdrOptions hdr;
+};
+
+struct ProcessingStats {
+  double hdr_seconds = 0;    // merging exposures (and writing HDR images)
+  double zonal_seconds = 0;  // lobe subtraction, resampling, exitant projection
+  int saturated_pixels = 0;  // pixel-lobes with every exposure saturated
+  int filled_cells = 0;      // grid cells filled by interpolation (first function, any channel)
+};
+
+class ZonalProcessor {
+ public:
+  ZonalProcessor(const CapturePlan& plan, const std::vector<LobePatternInfo>& patterns,
+                 const RigCalibration& calibration, const ProcessingOptions& options);
+  ~ZonalProcessor();
+
+  // Processes lobes on a background thread from now on (AddLobe only queues them).
+  void Start();
+  // The frames (all exposures and repeats) of plan lobe `lobe`; lobes must come in plan order.
+  void AddLobe(int lobe, std::vector<Frame> frames);
+  // Waits for queued lobes; computes the tensor coefficients. Rethrows a processing error.
+  ZonalData Finish();
+  const ProcessingStats& stats() const { return stats_; }
+
+ private:
+  void Process(int lobe, const std::vector<Frame>& frames);
+  void Worker();
+
+  const CapturePlan& plan_;
+  std::vector<LobePatternInfo> patterns_;
+  const RigCalibration& calibration_;
+  ProcessingOptions options_;
+  ExitantGrid grid_;
+  std::unique_ptr<PixelToGrid> resampler_;
+  ZonalData data_;
+  HdrImage dark_;
+  bool have_dark_ = false;
+  int pending_lobe_ = -1;
+  HdrImage pending_;
+  int next_lobe_ = 0;
+  ProcessingStats stats_;
+  // Background work.
+  std::thread worker_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<std::pair<int, std::vector<Frame>>> queue_;
+  bool stopping_ = false;
+  std::exception_ptr error_;
+};
+
+}  // namespace zbrdf

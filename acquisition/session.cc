@@ -1,0 +1,329 @@
+#include "acquisition/session.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "basis/error.h"
+
+namespace zbrdf {
+
+namespace {
+
+std::string ReadBytes(const std::string& path, bool* ok) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    *ok = false;
+    return {};
+  }
+  std::ostringstream s;
+  s << in.rdbuf();
+  *ok = static_cast<bool>(in) || in.eof();
+  return s.str();
+}
+
+std::string Checksum(const std::string& bytes) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char out[32];
+  std::snprintf(out, sizeof(out), "fnv1a64:%016llx", static_cast<unsigned long long>(h));
+  return out;
+}
+
+std::string UtcNow() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+void SyncDirectory(const std::string& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+}  // namespace
+
+std::string FileChecksum(const std::string& path) {
+  bool ok = true;
+  const std::string bytes = ReadBytes(path, &ok);
+  return ok ? Checksum(bytes) : std::string();
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& bytes) {
+  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) throw InputError("cannot write " + tmp + ": check that the folder is writable");
+  size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n <= 0) {
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw InputError("writing " + tmp + " failed (disk full?)");
+    }
+    written += static_cast<size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    ::unlink(tmp.c_str());
+    throw InputError("writing " + tmp + " failed (fsync)");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    ::unlink(tmp.c_str());
+    throw InputError("cannot rename " + tmp + " to " + path);
+  }
+  SyncDirectory(std::filesystem::path(path).parent_path().string());
+}
+
+nlohmann::json JournalEntry::ToJson() const {
+  return {{"index", index},       {"lobe", lobe},           {"exposure", exposure},
+          {"repeat", repeat},     {"exposure_us_requested", exposure_us_requested},
+          {"exposure_us", exposure_us}, {"frame_id", frame_id}, {"timestamp_us", timestamp_us},
+          {"wall_time", wall_time}, {"file", file},         {"checksum", checksum},
+          {"width", width},       {"height", height},       {"bit_depth", bit_depth},
+          {"layout", layout}};
+}
+
+JournalEntry JournalEntry::FromJson(const nlohmann::json& j) {
+  JournalEntry e;
+  e.index = j.at("index").get<int>();
+  e.lobe = j.at("lobe").get<std::string>();
+  e.exposure = j.at("exposure").get<int>();
+  e.repeat = j.at("repeat").get<int>();
+  e.exposure_us_requested = j.at("exposure_us_requested").get<double>();
+  e.exposure_us = j.at("exposure_us").get<double>();
+  e.frame_id = j.at("frame_id").get<uint64_t>();
+  e.timestamp_us = j.at("timestamp_us").get<int64_t>();
+  e.wall_time = j.at("wall_time").get<std::string>();
+  e.file = j.at("file").get<std::string>();
+  e.checksum = j.at("checksum").get<std::string>();
+  e.width = j.at("width").get<int>();
+  e.height = j.at("height").get<int>();
+  e.bit_depth = j.at("bit_depth").get<int>();
+  e.layout = j.at("layout").get<std::string>();
+  if (e.index < 0 || e.width <= 0 || e.height <= 0 || e.bit_depth < 1 || e.bit_depth > 16 ||
+      !(e.exposure_us > 0) || e.file.find("..") != std::string::npos) {
+    throw InputError("journal entry " + std::to_string(e.index) + " has out-of-range fields");
+  }
+  return e;
+}
+
+SessionFolder SessionFolder::Create(const std::string& path, const nlohmann::json& session) {
+  if (std::filesystem::exists(std::filesystem::path(path) / "session.json")) {
+    throw InputError("folder " + path +
+                     " already holds a session; resume it (--resume) or choose another --out");
+  }
+  std::error_code ec;
+  for (const char* sub : {"", "frames", "hdr"}) {
+    std::filesystem::create_directories(std::filesystem::path(path) / sub, ec);
+    if (ec) throw InputError("cannot create session folder " + path + ": " + ec.message());
+  }
+  SessionFolder folder(path);
+  folder.UpdateSession(session);
+  return folder;
+}
+
+SessionFolder SessionFolder::Open(const std::string& path) {
+  SessionFolder folder(path);
+  bool ok = true;
+  const std::string text = ReadBytes(path + "/session.json", &ok);
+  if (!ok) {
+    throw InputError("no session in " + path + " (session.json missing); run zbrdf capture or "
+                     "zbrdf simulate with --out " + path + " first");
+  }
+  folder.session_ = nlohmann::json::parse(text, nullptr, false);
+  if (folder.session_.is_discarded() || !folder.session_.is_object()) {
+    throw InputError(path + "/session.json is not valid JSON; the session folder is damaged");
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(path) / "frames", ec);
+  std::filesystem::create_directories(std::filesystem::path(path) / "hdr", ec);
+  return folder;
+}
+
+void SessionFolder::UpdateSession(const nlohmann::json& session) {
+  session_ = session;
+  WriteFileAtomically(path_ + "/session.json", session.dump(2) + "\n");
+}
+
+JournalEntry SessionFolder::WriteFrame(int index, const Frame& frame) {
+  if (frame.layout == PixelLayout::kRgb ||
+      frame.data.size() != static_cast<size_t>(frame.width) * frame.height) {
+    throw DeviceError("camera delivered a " + PixelLayoutName(frame.layout) + " frame of " +
+                      std::to_string(frame.data.size()) + " samples for " +
+                      std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                      " pixels; zbrdf captures raw mono or Bayer frames");
+  }
+  cv::Mat image(frame.height, frame.width, CV_16UC1, const_cast<uint16_t*>(frame.data.data()));
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
+    throw InputError("cannot encode frame " + std::to_string(index) + " as PNG");
+  }
+  char name[32];
+  std::snprintf(name, sizeof(name), "frames/f%06d.png", index);
+  const std::string bytes(png.begin(), png.end());
+  WriteFileAtomically(path_ + "/" + name, bytes);
+  JournalEntry e;
+  e.index = index;
+  e.file = name;
+  e.checksum = Checksum(bytes);
+  e.width = frame.width;
+  e.height = frame.height;
+  e.bit_depth = frame.bit_depth;
+  e.layout = PixelLayoutName(frame.layout);
+  e.exposure_us = frame.exposure_us;
+  e.frame_id = frame.frame_id;
+  e.timestamp_us = frame.timestamp_us;
+  e.wall_time = UtcNow();
+  return e;
+}
+
+void SessionFolder::AppendJournal(const JournalEntry& entry) {
+  const std::string line = entry.ToJson().dump() + "\n";
+  const std::string path = path_ + "/journal.jsonl";
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd < 0) throw InputError("cannot append to " + path);
+  const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) &&
+                  ::fsync(fd) == 0;
+  ::close(fd);
+  if (!ok) throw InputError("appending to " + path + " failed (disk full?)");
+}
+
+std::vector<JournalEntry> SessionFolder::ReadJournal() const {
+  std::map<int, JournalEntry> latest;
+  std::ifstream in(path_ + "/journal.jsonl");
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded()) continue;  // a line cut short by a crash
+    try {
+      JournalEntry e = JournalEntry::FromJson(j);
+      latest[e.index] = std::move(e);
+    } catch (const std::exception&) {
+      // A damaged line: that frame will be captured again.
+    }
+  }
+  std::vector<JournalEntry> out;
+  for (auto& [index, e] : latest) out.push_back(std::move(e));
+  return out;
+}
+
+bool SessionFolder::FrameIsIntact(const JournalEntry& entry) const {
+  return FileChecksum(path_ + "/" + entry.file) == entry.checksum;
+}
+
+Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
+  const std::string path = path_ + "/" + entry.file;
+  bool ok = true;
+  const std::string bytes = ReadBytes(path, &ok);
+  if (!ok) throw InputError("frame " + path + " is missing; resume the capture to take it again");
+  if (Checksum(bytes) != entry.checksum) {
+    throw InputError("frame " + path + " does not match its journal checksum (truncated or "
+                     "corrupt); resume the capture to take it again");
+  }
+  const cv::Mat image = cv::imdecode(std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_UNCHANGED);
+  if (image.empty() || image.type() != CV_16UC1 || image.cols != entry.width || image.rows != entry.height) {
+    throw InputError("frame " + path + " is not the " + std::to_string(entry.width) + "x" +
+                     std::to_string(entry.height) + " 16-bit image its journal line describes");
+  }
+  Frame f;
+  f.width = entry.width;
+  f.height = entry.height;
+  f.bit_depth = entry.bit_depth;
+  f.layout = ParsePixelLayout(entry.layout);
+  f.exposure_us = entry.exposure_us;
+  f.frame_id = entry.frame_id;
+  f.timestamp_us = entry.timestamp_us;
+  f.data.assign(image.ptr<uint16_t>(0), image.ptr<uint16_t>(0) + image.total());
+  return f;
+}
+
+CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
+                         const PatternSet& patterns, Camera& camera, Projector& projector,
+                         Clock& clock, const CaptureOptions& options) {
+  CaptureResult result;
+  std::map<int, JournalEntry> done;
+  int journaled_but_broken = 0;
+  for (JournalEntry& e : session.ReadJournal()) {
+    if (e.index >= plan.frame_count()) continue;
+    if (session.FrameIsIntact(e)) {
+      done[e.index] = std::move(e);
+    } else {
+      ++journaled_but_broken;
+    }
+  }
+  const int total = plan.frame_count();
+  long progress_done = static_cast<long>(done.size());
+  Report(options.progress, {"capture", progress_done, total, "frames"});
+  const int64_t start_us = clock.NowUs();
+  const int per_lobe = static_cast<int>(plan.exposures_us.size()) * plan.repeats;
+  for (int lobe = 0; lobe < static_cast<int>(plan.lobes.size()); ++lobe) {
+    std::vector<Frame> frames(per_lobe);
+    std::vector<int> missing;
+    for (int k = 0; k < per_lobe; ++k) {
+      const int index = lobe * per_lobe + k;
+      if (done.count(index)) continue;
+      missing.push_back(index);
+    }
+    if (!missing.empty()) {
+      projector.Show(patterns.Load(lobe));
+      clock.SleepUs(static_cast<int64_t>(options.settle_us));
+      for (int index : missing) {
+        if (options.interrupt && options.interrupt->load()) {
+          result.interrupted = true;
+          result.device_time_s = (clock.NowUs() - start_us) * 1e-6;
+          return result;
+        }
+        const PlannedFrame pf = plan.Frame(index);
+        const double requested = plan.exposures_us[pf.exposure];
+        camera.SetExposure(requested);
+        camera.SetNextFrameIndex(static_cast<uint64_t>(index));
+        Frame frame = camera.Grab(options.grab_timeout);
+        JournalEntry entry = session.WriteFrame(index, frame);
+        entry.lobe = plan.lobes[lobe].Name();
+        entry.exposure = pf.exposure;
+        entry.repeat = pf.repeat;
+        entry.exposure_us_requested = requested;
+        session.AppendJournal(entry);
+        done[index] = entry;
+        frames[index - lobe * per_lobe] = std::move(frame);
+        ++result.frames_captured;
+        Report(options.progress, {"capture", ++progress_done, total, "frames"});
+      }
+    }
+    // Earlier runs' frames of this lobe.
+    for (int k = 0; k < per_lobe; ++k) {
+      const int index = lobe * per_lobe + k;
+      if (frames[k].data.empty()) {
+        frames[k] = session.ReadFrame(done.at(index));
+        ++result.frames_reused;
+      }
+    }
+    if (options.on_lobe_complete) options.on_lobe_complete(lobe, frames);
+  }
+  result.frames_recaptured = std::min(journaled_but_broken, result.frames_captured);
+  result.device_time_s = (clock.NowUs() - start_us) * 1e-6;
+  return result;
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,117 @@
+// A capture session on disk, and the runner that fills it.
+//
+// Folder layout (docs/session-folder.md):
+//   session.json    rig (canonical YAML and hash), plan, calibration reference, material (for
+//                   simulated sessions), seed, devices, software version
+//   frames/         raw frames, lossless 16-bit PNG, f<index>.png (index: the plan's frame index)
+//   journal.jsonl   one JSON line per frame written: index, lobe, exposure (requested, actual),
+//                   repeat, frame id, timestamps, file, FNV-1a checksum of the file
+//   hdr/            HDR image per lobe (RGB half-float OpenEXR, for viewing)
+//   zonal.exr       the zonal coefficients (acquisition/zonal.h)
+//   report.json     what was done, how long it took, and how accurate it is
+//
+// Frames are written atomically (temporary file, fsync, rename) before their journal line is
+// appended and synced, so a crash or Ctrl-C loses at most the frame in flight. A frame whose
+// file is missing or fails its checksum is captured again on --resume. An existing session is
+// never overwritten: Create() refuses a folder that already holds one.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "acquisition/patterns.h"
+#include "acquisition/plan.h"
+#include "basis/progress.h"
+#include "drivers/camera.h"
+#include "drivers/clock.h"
+#include "drivers/projector.h"
+
+namespace zbrdf {
+
+struct JournalEntry {
+  int index = 0;
+  std::string lobe;
+  int exposure = 0;
+  int repeat = 0;
+  double exposure_us_requested = 0, exposure_us = 0;
+  uint64_t frame_id = 0;
+  int64_t timestamp_us = 0;  // on the session's clock
+  std::string wall_time;     // UTC, ISO 8601
+  std::string file;          // relative to the session folder
+  std::string checksum;      // "fnv1a64:<16 hex digits>" of the file's bytes
+  int width = 0, height = 0, bit_depth = 0;
+  std::string layout;
+
+  nlohmann::json ToJson() const;
+  static JournalEntry FromJson(const nlohmann::json& j);
+};
+
+class SessionFolder {
+ public:
+  // Creates `path` (and frames/, hdr/) and writes session.json. Throws InputError if the folder
+  // already holds a session: use Open() and resume it, or choose another folder.
+  static SessionFolder Create(const std::string& path, const nlohmann::json& session);
+  // Opens an existing session; throws InputError if there is none or session.json is damaged.
+  static SessionFolder Open(const std::string& path);
+
+  const std::string& path() const { return path_; }
+  const nlohmann::json& session() const { return session_; }
+  // Rewrites session.json (atomically).
+  void UpdateSession(const nlohmann::json& session);
+
+  // Writes the frame file atomically; returns the journal entry to append (without timing).
+  JournalEntry WriteFrame(int index, const Frame& frame);
+  void AppendJournal(const JournalEntry& entry);
+  // The journal's entries, the last one per index; a truncated last line (a crash while
+  // writing it) is ignored.
+  std::vector<JournalEntry> ReadJournal() const;
+  // Reads a journaled frame, verifying its checksum; throws InputError naming the file if it is
+  // missing, truncated or corrupt.
+  Frame ReadFrame(const JournalEntry& entry) const;
+  // True if the entry's file exists and matches its checksum.
+  bool FrameIsIntact(const JournalEntry& entry) const;
+
+ private:
+  explicit SessionFolder(std::string path) : path_(std::move(path)) {}
+  std::string path_;
+  nlohmann::json session_;
+};
+
+// FNV-1a 64-bit checksum of a file's bytes, "fnv1a64:<hex>"; "" if unreadable.
+std::string FileChecksum(const std::string& path);
+// Writes bytes to path via a temporary file, fsync and rename. Throws InputError on failure.
+void WriteFileAtomically(const std::string& path, const std::string& bytes);
+
+struct CaptureOptions {
+  std::chrono::milliseconds grab_timeout{5000};
+  double settle_us = 0;                    // after each new pattern
+  ProgressCallback progress;
+  const std::atomic<bool>* interrupt = nullptr;  // set by a signal handler: stop after a frame
+  // Called when every frame of a lobe is on disk (in plan order), with its frames, so that
+  // processing runs while the capture goes on. Frames of lobes completed in an earlier run of
+  // the session are read back from disk and passed too.
+  std::function<void(int lobe, const std::vector<Frame>& frames)> on_lobe_complete;
+};
+
+struct CaptureResult {
+  int frames_captured = 0;    // in this run
+  int frames_reused = 0;      // intact frames from an earlier run
+  int frames_recaptured = 0;  // journaled but missing or corrupt, captured again
+  bool interrupted = false;
+  double device_time_s = 0;   // on the session clock (modeled time on the virtual rig)
+};
+
+// Runs (or resumes) the plan: for each lobe, shows its pattern, waits the settle time, and for
+// each repeat and exposure grabs a frame, writes it and journals it. Frames already journaled
+// and intact are kept. Throws DeviceError if a device fails (the journal keeps what was done).
+CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
+                         const PatternSet& patterns, Camera& camera, Projector& projector,
+                         Clock& clock, const CaptureOptions& options);
+
+}  // namespace zbrdf

@@ -1,0 +1,449 @@
+#include "acquisition/zonal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputPart.h>
+#include <ImfIntAttribute.h>
+#include <ImfMultiPartInputFile.h>
+#include <ImfMultiPartOutputFile.h>
+#include <ImfOutputPart.h>
+#include <ImfPartType.h>
+#include <ImfStandardAttributes.h>
+#include <ImfStringAttribute.h>
+#include <ImfDoubleAttribute.h>
+#include <Iex.h>
+
+#include "basis/error.h"
+#include "basis/parallel.h"
+#include "basis/quadrature.h"
+#include "basis/spherical_harmonics.h"
+#include "simulate/direction_maps.h"
+
+namespace zbrdf {
+
+double ExitantGrid::CellSolidAngle(int i) const {
+  return phi_step_rad * (std::cos(ThetaLow(i)) - std::cos(ThetaHigh(i)));
+}
+
+Vec3 ExitantGrid::CellCenter(int i, int j) const {
+  const double cos_mid = 0.5 * (std::cos(ThetaLow(i)) + std::cos(ThetaHigh(i)));
+  const double sin_mid = std::sqrt(std::max(0.0, 1 - cos_mid * cos_mid));
+  const double phi = (j + 0.5) * phi_step_rad;
+  return {sin_mid * std::cos(phi), sin_mid * std::sin(phi), cos_mid};
+}
+
+int ExitantGrid::CellOf(const Vec3& w) const {
+  const double theta = SphericalTheta(w);
+  if (theta < theta_min_rad || theta > theta_max_rad) return -1;
+  const int i = std::min(static_cast<int>((theta - theta_min_rad) / theta_step_rad), n_theta - 1);
+  const int j = std::min(static_cast<int>(SphericalPhi(w) / phi_step_rad), n_phi - 1);
+  return i * n_phi + j;
+}
+
+ExitantGrid MakeExitantGrid(const Zone& zone, double theta_step_deg, double phi_step_deg) {
+  if (!(theta_step_deg > 0 && theta_step_deg <= 10 && phi_step_deg > 0 && phi_step_deg <= 10)) {
+    throw InputError("exitant grid steps must be in (0, 10] deg");
+  }
+  ExitantGrid g;
+  g.theta_min_rad = zone.theta_min_rad();
+  g.theta_max_rad = zone.theta_max_rad();
+  g.theta_step_rad = DegToRad(theta_step_deg);
+  g.n_theta = static_cast<int>(std::ceil((g.theta_max_rad - g.theta_min_rad) / g.theta_step_rad - 1e-9));
+  g.n_phi = static_cast<int>(std::lround(360.0 / phi_step_deg));
+  g.phi_step_rad = 2 * M_PI / g.n_phi;
+  if (g.n_theta < 1) throw InputError("zone narrower than one theta step of the exitant grid");
+  return g;
+}
+
+PixelToGrid::PixelToGrid(const RigCalibration& c, const ExitantGrid& grid, int subsamples)
+    : grid_(grid) {
+  const int w = c.camera_width, h = c.camera_height;
+  const int pixels = w * h;
+  channel_.resize(pixels);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) channel_[y * w + x] = static_cast<int8_t>(BayerChannel(c.layout, x, y));
+  }
+  std::vector<std::vector<Splat>> rows(h);
+  ParallelFor(h, 8, [&](int64_t y0, int64_t y1) {
+    std::vector<Splat> local;
+    for (int64_t y = y0; y < y1; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const int p = static_cast<int>(y) * w + x;
+        if (!c.CameraValid(p) || c.camera_solid_angle_sr[p] <= 0) continue;
+        Vec3 neighbour[3][3];
+        NeighbourDirections(c.camera_direction, c.camera_response, w, h, x, static_cast<int>(y),
+                            neighbour);
+        const float part = c.camera_solid_angle_sr[p] / (subsamples * subsamples);
+        local.clear();
+        for (int sj = 0; sj < subsamples; ++sj) {
+          for (int si = 0; si < subsamples; ++si) {
+            const Vec3 d = InterpolateFootprint(neighbour, (si + 0.5) / subsamples - 0.5,
+                                                (sj + 0.5) / subsamples - 0.5);
+            const int cell = grid_.CellOf(d);
+            if (cell < 0) continue;
+            auto it = std::find_if(local.begin(), local.end(), [&](const Splat& s) { return s.cell == cell; });
+            if (it == local.end()) local.push_back({cell, part});
+            else it->weight += part;
+          }
+        }
+        for (const Splat& s : local) rows[y].push_back({-1 - p, 0.0f}), rows[y].push_back(s);
+      }
+    }
+  });
+  // Flatten; entries with a negative cell mark the start of a pixel's splats.
+  begin_.assign(pixels + 1, 0);
+  std::vector<int64_t> count(pixels, 0);
+  for (const auto& row : rows) {
+    int current = -1;
+    for (const Splat& s : row) {
+      if (s.cell < 0) {
+        current = -1 - s.cell;
+        continue;
+      }
+      ++count[current];
+      splats_.push_back(s);
+    }
+  }
+  int64_t offset = 0;
+  for (int p = 0; p < pixels; ++p) {
+    begin_[p] = offset;
+    offset += count[p];
+  }
+  begin_[pixels] = offset;
+}
+
+GridImage PixelToGrid::Resample(const std::vector<float>& value, const std::vector<float>& variance,
+                                const std::vector<uint8_t>& valid) const {
+  const int cells = grid_.cells();
+  std::array<std::vector<double>, 3> sum, sum_var, weight;
+  for (int ch = 0; ch < 3; ++ch) {
+    sum[ch].assign(cells, 0.0);
+    sum_var[ch].assign(cells, 0.0);
+    weight[ch].assign(cells, 0.0);
+  }
+  const int pixels = static_cast<int>(begin_.size()) - 1;
+  for (int p = 0; p < pixels; ++p) {
+    if (begin_[p] == begin_[p + 1] || !valid[p]) continue;
+    const int ch = channel_[p];
+    for (int64_t e = begin_[p]; e < begin_[p + 1]; ++e) {
+      const Splat& s = splats_[e];
+      for (int c = ch < 0 ? 0 : ch; c <= (ch < 0 ? 2 : ch); ++c) {
+        sum[c][s.cell] += s.weight * value[p];
+        sum_var[c][s.cell] += static_cast<double>(s.weight) * s.weight * variance[p];
+        weight[c][s.cell] += s.weight;
+      }
+    }
+  }
+  GridImage out;
+  out.filled.assign(cells, 0);
+  for (int ch = 0; ch < 3; ++ch) {
+    out.value[ch].assign(cells, 0.0f);
+    out.variance[ch].assign(cells, 0.0f);
+    out.weight[ch].assign(cells, 0.0f);
+    for (int k = 0; k < cells; ++k) {
+      if (weight[ch][k] <= 0) continue;
+      out.value[ch][k] = static_cast<float>(sum[ch][k] / weight[ch][k]);
+      out.variance[ch][k] = static_cast<float>(sum_var[ch][k] / (weight[ch][k] * weight[ch][k]));
+      out.weight[ch][k] = static_cast<float>(weight[ch][k]);
+    }
+    // Fill empty cells along their theta row (periodic in phi), else from the nearest row.
+    for (int i = 0; i < grid_.n_theta; ++i) {
+      const int base = i * grid_.n_phi;
+      std::vector<int> known;
+      for (int j = 0; j < grid_.n_phi; ++j) {
+        if (weight[ch][base + j] > 0) known.push_back(j);
+      }
+      if (known.empty()) continue;
+      for (int j = 0; j < grid_.n_phi; ++j) {
+        if (weight[ch][base + j] > 0) continue;
+        // Neighbours on both sides, wrapping around.
+        auto after = std::upper_bound(known.begin(), known.end(), j);
+        const int next = after == known.end() ? known.front() + grid_.n_phi : *after;
+        const int prev = after == known.begin() ? known.back() - grid_.n_phi : *(after - 1);
+        const double t = static_cast<double>(j - prev) / (next - prev);
+        const int a = base + ((prev % grid_.n_phi) + grid_.n_phi) % grid_.n_phi;
+        const int b = base + next % grid_.n_phi;
+        out.value[ch][base + j] = static_cast<float>((1 - t) * out.value[ch][a] + t * out.value[ch][b]);
+        out.variance[ch][base + j] =
+            static_cast<float>((1 - t) * out.variance[ch][a] + t * out.variance[ch][b]);
+        out.filled[base + j] = 1;
+      }
+    }
+    for (int i = 0; i < grid_.n_theta; ++i) {
+      const int base = i * grid_.n_phi;
+      bool empty = true;
+      for (int j = 0; j < grid_.n_phi && empty; ++j) empty = weight[ch][base + j] <= 0 && !out.filled[base + j];
+      if (!empty) continue;
+      // A whole row without data: copy the nearest row that has some.
+      for (int d = 1; d < grid_.n_theta; ++d) {
+        for (int src : {i - d, i + d}) {
+          if (src < 0 || src >= grid_.n_theta) continue;
+          bool has = false;
+          for (int j = 0; j < grid_.n_phi && !has; ++j) has = weight[ch][src * grid_.n_phi + j] > 0 || out.filled[src * grid_.n_phi + j];
+          if (!has) continue;
+          for (int j = 0; j < grid_.n_phi; ++j) {
+            out.value[ch][base + j] = out.value[ch][src * grid_.n_phi + j];
+            out.variance[ch][base + j] = out.variance[ch][src * grid_.n_phi + j];
+            out.filled[base + j] = 1;
+          }
+          d = grid_.n_theta;
+          break;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXd CellIntegrals(const ExitantGrid& grid, const ZonalBasis& zb) {
+  const int n = zb.size();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(grid.cells(), n);
+  // Per cell: Gauss-Legendre in cos(theta) (enough for a 1 deg row at order <= 30) x
+  // Gauss-Legendre in phi over the cell.
+  const GaussLegendreRule gt = GaussLegendre(4), gp = GaussLegendre(4);
+  std::vector<double> z(n);
+  for (int i = 0; i < grid.n_theta; ++i) {
+    const double c0 = std::cos(grid.ThetaHigh(i)), c1 = std::cos(grid.ThetaLow(i));
+    for (int j = 0; j < grid.n_phi; ++j) {
+      for (int qi = 0; qi < 4; ++qi) {
+        const double x = 0.5 * (c0 + c1) + 0.5 * (c1 - c0) * gt.nodes[qi];
+        for (int qj = 0; qj < 4; ++qj) {
+          const double phi = (j + 0.5 + 0.5 * gp.nodes[qj]) * grid.phi_step_rad;
+          const double weight = 0.25 * gt.weights[qi] * gp.weights[qj] * (c1 - c0) * grid.phi_step_rad;
+          zb.Eval(x, phi, z.data());
+          for (int k = 0; k < n; ++k) a(i * grid.n_phi + j, k) += weight * z[k];
+        }
+      }
+    }
+  }
+  return a;
+}
+
+void ProjectExitant(ZonalData* data) {
+  const ZonalBasis zb(data->zone(), data->order);
+  const Eigen::MatrixXd a = CellIntegrals(data->grid, zb);
+  const int n = zb.size(), cells = data->grid.cells();
+  for (int ch = 0; ch < 3; ++ch) {
+    Eigen::MatrixXd values(n, cells), variances(n, cells);
+    for (int k = 0; k < n; ++k) {
+      for (int c = 0; c < cells; ++c) {
+        values(k, c) = data->functions[k].value[ch][c];
+        variances(k, c) = data->functions[k].variance[ch][c];
+      }
+    }
+    data->tensor[ch] = values * a;
+    data->tensor_variance[ch] = variances * a.cwiseProduct(a);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+const char* kChannel[3] = {"R", "G", "B"};
+
+std::string FunctionLayer(int k) {
+  int l, m;
+  ShDegreeOrder(k, &l, &m);
+  char name[32];
+  std::snprintf(name, sizeof(name), "Z%d_%d", l, m);
+  return name;
+}
+
+}  // namespace
+
+void WriteZonalExr(const std::string& path, const ZonalData& data) {
+  const ExitantGrid& g = data.grid;
+  const int n = static_cast<int>(data.functions.size());
+  const int cells = g.cells();
+  Imf::Header grid_header(g.n_phi, g.n_theta);
+  grid_header.setName("grid");
+  grid_header.setType(Imf::SCANLINEIMAGE);
+  grid_header.compression() = Imf::ZIP_COMPRESSION;
+  // Parts of a multi-part file share their display window; the tensor has its own data window.
+  Imf::Header tensor_header(grid_header.displayWindow(),
+                            Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(n - 1, n - 1)));
+  tensor_header.setName("tensor");
+  tensor_header.setType(Imf::SCANLINEIMAGE);
+  tensor_header.compression() = Imf::ZIP_COMPRESSION;
+  for (Imf::Header* h : {&grid_header, &tensor_header}) {
+    h->insert("zbrdf.format", Imf::StringAttribute("zbrdf-zonal-v1"));
+    h->insert("zbrdf.theta_min_rad", Imf::DoubleAttribute(data.theta_min_rad));
+    h->insert("zbrdf.theta_max_rad", Imf::DoubleAttribute(data.theta_max_rad));
+    h->insert("zbrdf.order", Imf::IntAttribute(data.order));
+    h->insert("zbrdf.theta_step_rad", Imf::DoubleAttribute(g.theta_step_rad));
+    h->insert("zbrdf.phi_step_rad", Imf::DoubleAttribute(g.phi_step_rad));
+    h->insert("zbrdf.attributes", Imf::StringAttribute(data.attributes.dump()));
+  }
+  // Channel storage must outlive writePixels.
+  std::vector<std::vector<float>> storage;
+  Imf::FrameBuffer grid_fb;
+  auto add = [&](Imf::Header& header, Imf::FrameBuffer& fb, const std::string& name,
+                 std::vector<float> values, int width) {
+    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    storage.push_back(std::move(values));
+    fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(storage.back().data()),
+                               sizeof(float), sizeof(float) * width));
+  };
+  storage.reserve(6 * n + 8);
+  for (int k = 0; k < n; ++k) {
+    const std::string layer = FunctionLayer(k);
+    for (int ch = 0; ch < 3; ++ch) {
+      add(grid_header, grid_fb, layer + "." + kChannel[ch], data.functions[k].value[ch], g.n_phi);
+      add(grid_header, grid_fb, layer + ".var." + kChannel[ch], data.functions[k].variance[ch], g.n_phi);
+    }
+  }
+  if (n > 0) {
+    for (int ch = 0; ch < 3; ++ch) {
+      add(grid_header, grid_fb, std::string("weight.") + kChannel[ch], data.functions[0].weight[ch], g.n_phi);
+    }
+    std::vector<float> filled(cells);
+    for (int c = 0; c < cells; ++c) filled[c] = data.functions[0].filled[c];
+    add(grid_header, grid_fb, "filled", filled, g.n_phi);
+  }
+  Imf::FrameBuffer tensor_fb;
+  for (int ch = 0; ch < 3; ++ch) {
+    std::vector<float> v(static_cast<size_t>(n) * n), var(static_cast<size_t>(n) * n);
+    for (int k = 0; k < n; ++k) {
+      for (int j = 0; j < n; ++j) {
+        v[k * n + j] = static_cast<float>(data.tensor[ch](k, j));
+        var[k * n + j] = static_cast<float>(data.tensor_variance[ch](k, j));
+      }
+    }
+    add(tensor_header, tensor_fb, std::string("z.") + kChannel[ch], v, n);
+    add(tensor_header, tensor_fb, std::string("var.") + kChannel[ch], var, n);
+  }
+  try {
+    const Imf::Header headers[2] = {grid_header, tensor_header};
+    Imf::MultiPartOutputFile file(path.c_str(), headers, 2);
+    Imf::OutputPart grid_part(file, 0);
+    grid_part.setFrameBuffer(grid_fb);
+    grid_part.writePixels(g.n_theta);
+    Imf::OutputPart tensor_part(file, 1);
+    tensor_part.setFrameBuffer(tensor_fb);
+    tensor_part.writePixels(n);
+  } catch (const std::exception& e) {
+    throw InputError("cannot write " + path + ": " + e.what());
+  }
+}
+
+ZonalData ReadZonalExr(const std::string& path) {
+  ZonalData data;
+  try {
+    Imf::MultiPartInputFile file(path.c_str());
+    int grid_part = -1, tensor_part = -1;
+    for (int i = 0; i < file.parts(); ++i) {
+      if (file.header(i).hasName() && file.header(i).name() == "grid") grid_part = i;
+      if (file.header(i).hasName() && file.header(i).name() == "tensor") tensor_part = i;
+    }
+    if (grid_part < 0 || tensor_part < 0) {
+      throw InputError(path + " is not a zbrdf zonal file (no 'grid' and 'tensor' parts)");
+    }
+    const Imf::Header& h = file.header(grid_part);
+    const auto* format = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.format");
+    if (!format || format->value() != "zbrdf-zonal-v1") {
+      throw InputError(path + " is not a zbrdf zonal file (zbrdf.format missing or unknown)");
+    }
+    auto get_double = [&](const char* name) {
+      const auto* a = h.findTypedAttribute<Imf::DoubleAttribute>(name);
+      if (!a) throw InputError(path + ": header attribute " + name + " is missing");
+      return a->value();
+    };
+    data.theta_min_rad = get_double("zbrdf.theta_min_rad");
+    data.theta_max_rad = get_double("zbrdf.theta_max_rad");
+    const auto* order = h.findTypedAttribute<Imf::IntAttribute>("zbrdf.order");
+    if (!order || order->value() < 0 || order->value() > 30) {
+      throw InputError(path + ": header attribute zbrdf.order is missing or out of range");
+    }
+    data.order = order->value();
+    const auto* attributes = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.attributes");
+    if (attributes) data.attributes = nlohmann::json::parse(attributes->value(), nullptr, false);
+    const Zone zone(data.theta_min_rad, data.theta_max_rad);
+    data.grid = MakeExitantGrid(zone, RadToDeg(get_double("zbrdf.theta_step_rad")),
+                                RadToDeg(get_double("zbrdf.phi_step_rad")));
+    const Imath::Box2i window = h.dataWindow();
+    if (window.max.x - window.min.x + 1 != data.grid.n_phi ||
+        window.max.y - window.min.y + 1 != data.grid.n_theta) {
+      throw InputError(path + ": grid part is not n_phi x n_theta as its header says");
+    }
+    const int n = ShCount(data.order), cells = data.grid.cells();
+    data.functions.resize(n);
+    Imf::FrameBuffer fb;
+    auto slice = [&](Imf::FrameBuffer& frame, const Imf::Header& header, const std::string& name,
+                     std::vector<float>& target, int width, int count, int origin_x, int origin_y) {
+      if (!header.channels().findChannel(name)) {
+        throw InputError(path + ": channel " + name + " is missing");
+      }
+      target.assign(count, 0.0f);
+      char* base = reinterpret_cast<char*>(target.data()) -
+                   (static_cast<ptrdiff_t>(origin_y) * width + origin_x) * sizeof(float);
+      frame.insert(name, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * width));
+    };
+    std::vector<float> filled;
+    for (int k = 0; k < n; ++k) {
+      const std::string layer = FunctionLayer(k);
+      for (int ch = 0; ch < 3; ++ch) {
+        slice(fb, h, layer + "." + kChannel[ch], data.functions[k].value[ch], data.grid.n_phi, cells,
+              window.min.x, window.min.y);
+        slice(fb, h, layer + ".var." + kChannel[ch], data.functions[k].variance[ch], data.grid.n_phi,
+              cells, window.min.x, window.min.y);
+      }
+    }
+    std::array<std::vector<float>, 3> weight;
+    for (int ch = 0; ch < 3; ++ch) {
+      slice(fb, h, std::string("weight.") + kChannel[ch], weight[ch], data.grid.n_phi, cells,
+            window.min.x, window.min.y);
+    }
+    slice(fb, h, "filled", filled, data.grid.n_phi, cells, window.min.x, window.min.y);
+    Imf::InputPart grid(file, grid_part);
+    grid.setFrameBuffer(fb);
+    grid.readPixels(window.min.y, window.max.y);
+    for (int k = 0; k < n; ++k) {
+      data.functions[k].weight = weight;
+      data.functions[k].filled.resize(cells);
+      for (int c = 0; c < cells; ++c) data.functions[k].filled[c] = filled[c] != 0;
+    }
+    const Imf::Header& th = file.header(tensor_part);
+    const Imath::Box2i tw = th.dataWindow();
+    if (tw.max.x - tw.min.x + 1 != n || tw.max.y - tw.min.y + 1 != n) {
+      throw InputError(path + ": tensor part is not n x n for order " + std::to_string(data.order));
+    }
+    Imf::FrameBuffer tfb;
+    std::array<std::vector<float>, 3> tv, tvar;
+    for (int ch = 0; ch < 3; ++ch) {
+      slice(tfb, th, std::string("z.") + kChannel[ch], tv[ch], n, n * n, tw.min.x, tw.min.y);
+      slice(tfb, th, std::string("var.") + kChannel[ch], tvar[ch], n, n * n, tw.min.x, tw.min.y);
+    }
+    Imf::InputPart tensor(file, tensor_part);
+    tensor.setFrameBuffer(tfb);
+    tensor.readPixels(tw.min.y, tw.max.y);
+    for (int ch = 0; ch < 3; ++ch) {
+      data.tensor[ch].resize(n, n);
+      data.tensor_variance[ch].resize(n, n);
+      for (int k = 0; k < n; ++k) {
+        for (int j = 0; j < n; ++j) {
+          data.tensor[ch](k, j) = tv[ch][k * n + j];
+          data.tensor_variance[ch](k, j) = tvar[ch][k * n + j];
+        }
+      }
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("cannot read zonal file " + path + ": " + e.what());
+  }
+  for (const GridImage& f : data.functions) {
+    for (int ch = 0; ch < 3; ++ch) {
+      for (float v : f.value[ch]) {
+        if (!std::isfinite(v)) throw InputError(path + " holds a non-finite coefficient; damaged file?");
+      }
+    }
+  }
+  return data;
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,63 @@
+#include "tools/session_report.h"
+
+#include <cstdio>
+
+#include "acquisition/session.h"
+#include "basis/zone.h"
+
+namespace zbrdf {
+
+nlohmann::json CaptureJobReport(const CaptureJobResult& r, double device_time_s) {
+  nlohmann::json j;
+  j["complete"] = r.complete;
+  j["zone_deg"] = {RadToDeg(r.plan.theta_min_rad), RadToDeg(r.plan.theta_max_rad)};
+  j["order"] = r.plan.order;
+  j["patterns"] = r.plan.lobes.size();
+  j["frames"] = r.plan.frame_count();
+  j["frames_captured"] = r.capture.frames_captured;
+  j["frames_reused"] = r.capture.frames_reused;
+  j["exposures_us"] = r.plan.exposures_us;
+  j["capture_time_model_s"] = device_time_s;
+  j["capture_time_predicted_s"] = r.predicted_capture_time_s;
+  j["saturated_pixel_lobes"] = r.processing.saturated_pixels;
+  j["grid_cells_filled"] = r.processing.filled_cells;
+  j["grid"] = {{"theta_step_deg", RadToDeg(r.zonal.grid.theta_step_rad)},
+               {"phi_step_deg", RadToDeg(r.zonal.grid.phi_step_rad)},
+               {"n_theta", r.zonal.grid.n_theta},
+               {"n_phi", r.zonal.grid.n_phi}};
+  return j;
+}
+
+void WriteSessionReport(const std::string& session_dir, const nlohmann::json& report) {
+  WriteFileAtomically(session_dir + "/report.json", report.dump(2) + "\n");
+}
+
+std::string FormatCaptureSummary(const nlohmann::json& j) {
+  char buf[1024];
+  std::string out;
+  std::snprintf(buf, sizeof(buf), "  zone %.1f-%.1f deg, order %d: %d patterns, %d frames\n",
+                j["zone_deg"][0].get<double>(), j["zone_deg"][1].get<double>(), j["order"].get<int>(),
+                j["patterns"].get<int>(), j["frames"].get<int>());
+  out += buf;
+  std::snprintf(buf, sizeof(buf), "  capture time on the rig: %.1f s (predicted %.1f s)\n",
+                j["capture_time_model_s"].get<double>(), j["capture_time_predicted_s"].get<double>());
+  out += buf;
+  if (j.contains("wall_time_s")) {
+    const auto& w = j["wall_time_s"];
+    std::string stages;
+    for (auto it = w.begin(); it != w.end(); ++it) {
+      std::snprintf(buf, sizeof(buf), "%s%s %.2f s", stages.empty() ? "" : ", ", it.key().c_str(),
+                    it.value().get<double>());
+      stages += buf;
+    }
+    out += "  wall time: " + stages + "\n";
+  }
+  if (j.contains("coefficient_error_in_zone")) {
+    std::snprintf(buf, sizeof(buf), "  coefficient error in the zone: %.3g%% (relative L2 against the material)\n",
+                  100 * j["coefficient_error_in_zone"].get<double>());
+    out += buf;
+  }
+  return out;
+}
+
+}  // namespace zbrdf
