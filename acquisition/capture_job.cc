@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "basis/error.h"
 #include "simulate/direction_maps.h"
@@ -57,7 +58,8 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
                                Projector& projector, Clock& clock,
                                const CaptureJobOptions& options) {
   CaptureJobResult result;
-  const double settle_us = rig.timing.projector_settle_ms * 1e3;
+  const double settle_us =
+      options.settle_us >= 0 ? options.settle_us : rig.timing.projector_settle_ms * 1e3;
   SessionFolder session = options.resume ? SessionFolder::Open(options.out_dir)
                                          : [&] {
                                              if (options.out_dir.empty()) {
@@ -161,6 +163,59 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   }
   WriteZonalExr(session.path() + "/zonal.exr", result.zonal);
   result.complete = true;
+  return result;
+}
+
+ProcessResult ProcessSession(const std::string& session_dir, const RigCalibration& calibration,
+                             const ProcessingOptions& options, const std::string& pattern_cache_dir,
+                             const ProgressCallback& progress) {
+  const SessionFolder session = SessionFolder::Open(session_dir);
+  if (!session.session().contains("plan")) {
+    throw InputError(session_dir + "/session.json has no plan; the session folder is damaged");
+  }
+  ProcessResult result;
+  result.plan = CapturePlan::FromJson(session.session().at("plan"));
+  const PatternSet patterns(result.plan, calibration,
+                            pattern_cache_dir.empty() ? DefaultCacheDir() : pattern_cache_dir,
+                            progress);
+  std::map<int, JournalEntry> journal;
+  for (JournalEntry& e : session.ReadJournal()) journal[e.index] = std::move(e);
+  ProcessingOptions processing = options;
+  processing.hdr_folder = session_dir + "/hdr";
+  ZonalProcessor processor(result.plan, patterns.lobes(), calibration, processing);
+  processor.Start();
+  const int per_lobe = static_cast<int>(result.plan.exposures_us.size()) * result.plan.repeats;
+  const auto start = std::chrono::steady_clock::now();
+  // Frames are read and verified on this thread while the processor merges the previous lobe.
+  for (int lobe = 0; lobe < static_cast<int>(result.plan.lobes.size()); ++lobe) {
+    std::vector<Frame> frames;
+    for (int k = 0; k < per_lobe; ++k) {
+      const int index = lobe * per_lobe + k;
+      const auto it = journal.find(index);
+      if (it == journal.end()) {
+        throw InputError("session " + session_dir + " lacks frame " + std::to_string(index) + " (" +
+                         result.plan.lobes[lobe].Name() +
+                         "); the capture was interrupted: resume it with --resume");
+      }
+      frames.push_back(session.ReadFrame(it->second));
+    }
+    processor.AddLobe(lobe, std::move(frames));
+    Report(progress, {"process", lobe + 1, static_cast<long>(result.plan.lobes.size()), "patterns"});
+  }
+  result.read_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.zonal = processor.Finish();
+  result.processing = processor.stats();
+  result.zonal.attributes = {{"rig", session.session().value("rig_name", std::string())},
+                             {"rig_hash", session.session().value("rig_hash", std::string())},
+                             {"calibration", calibration.source},
+                             {"session", session_dir},
+                             {"units", "z_k(w_r) = integral Z_k(w_i) f_r(w_i,w_r) cos(theta_i) dw_i "
+                                       "[sr^-1/2]; tensor z_kj = integral z_k Z_j dw_r"}};
+  for (const char* key : {"material", "seed", "preset"}) {
+    if (session.session().contains(key)) result.zonal.attributes[key] = session.session()[key];
+  }
+  WriteZonalExr(session_dir + "/zonal.exr", result.zonal);
   return result;
 }
 

@@ -36,6 +36,7 @@ struct CaptureJobOptions {
   int repeats = 1;
   ProcessingOptions processing;     // hdr_folder is set to <out>/hdr
   std::string pattern_cache_dir;    // "" : <cache>/zbrdf patterns (DefaultCacheDir())
+  double settle_us = -1;            // after each new pattern; < 0: the rig's timing
   ProgressCallback progress;
   const std::atomic<bool>* interrupt = nullptr;
   nlohmann::json session_extra;     // merged into session.json (material, seed, preset, ...)
@@ -57,6 +58,20 @@ struct CaptureJobResult {
 // device fails (the journal keeps what was captured: resume with options.resume).
 CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration, Camera& camera,
                                Projector& projector, Clock& clock, const CaptureJobOptions& options);
+
+// Re-processes a captured session from its frames on disk (zbrdf process): HDR, zonal
+// extraction, zonal.exr. The plan comes from session.json; every journaled frame is verified
+// against its checksum. Throws InputError naming a missing or corrupt frame (resume the capture
+// to take it again).
+struct ProcessResult {
+  CapturePlan plan;
+  ProcessingStats processing;
+  ZonalData zonal;
+  double read_seconds = 0;  // reading and verifying frames
+};
+ProcessResult ProcessSession(const std::string& session_dir, const RigCalibration& calibration,
+                             const ProcessingOptions& options, const std::string& pattern_cache_dir,
+                             const ProgressCallback& progress = nullptr);
 
 // The shortest exposure of the bracket, metered on a full-white pattern (see above).
 double MeterExposure(Camera& camera, Projector& projector, Clock& clock,

@@ -236,7 +236,7 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name) {
     }
     message += (close.empty() ? "; the " : "? The ") + std::to_string(names.size()) +
                " bundled materials are the NAME.json files in " + DataPath(kBundledFolder) +
-               " (MaterialSpecHelp(), the tools' help text, lists them)";
+               "; use merl:NAME with one of those names";
     throw InputError(message);
   }
   return std::make_unique<NbrdfBrdf>(

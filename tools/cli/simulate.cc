@@ -10,7 +10,7 @@
 #include "acquisition/ground_truth.h"
 #include "basis/error.h"
 #include "fitting/material_spec.h"
-#include "simulate/virtual_rig.h"
+#include "tools/virtual_capture.h"
 #include "tools/cli/command.h"
 #include "tools/cli/plan_flags.h"
 #include "tools/interrupt.h"
@@ -25,7 +25,7 @@ double Seconds(SteadyTime::time_point a, SteadyTime::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-int RunSimulate(const std::vector<std::string>& args) {
+int RunSimulate(const std::vector<std::string>& argv) {
   CommandLine cl("simulate",
                  "Simulates a capture session on the virtual rig and processes it end to end:\n"
                  "meters the exposure, plans the patterns, renders every frame through the rig's\n"
@@ -47,78 +47,68 @@ int RunSimulate(const std::vector<std::string>& args) {
       "      --out results/blue-acrylic --preset fast\n\n"
       "The session folder holds session.json, frames/, journal.jsonl, hdr/, zonal.exr and\n"
       "report.json (docs/session-folder.md). Materials: zbrdf eval --help lists the specs.");
-  if (!cl.Parse(args)) return 0;
+  if (!cl.Parse(argv)) return 0;
   const auto t0 = SteadyTime::now();
-  const Preset preset = ParsePreset(cl.Get("preset"));
-  const Rig rig = ApplyPreset(LoadRig(cl.Get("rig")), preset);
-  const std::string spec = cl.Get("material");
-  std::shared_ptr<const Brdf> material = MakeBrdf(spec);
-  CaptureJobOptions options;
+  VirtualCaptureArgs args;
+  args.preset_name = cl.Get("preset");
+  args.rig = ApplyPreset(LoadRig(cl.Get("rig")), ParsePreset(args.preset_name));
+  args.material_spec = cl.Get("material");
+  args.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
+  args.noise = !cl.Has("no-noise");
+  CaptureJobOptions& options = args.job;
   options.out_dir = cl.Get("out");
   options.resume = cl.Has("resume");
   ReadPlanFlags(cl, &options);
-  const uint64_t seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
   const int truth_samples = cl.GetInt("truth-samples", 16, 1 << 20);
   const bool json = cl.Has("json");
   TerminalProgress progress(false);
   options.progress = progress.Callback();
   options.interrupt = InstallInterruptHandler();
-  options.session_extra = {{"material", material->Spec()},
-                           {"seed", seed},
-                           {"preset", cl.Get("preset")},
-                           {"noise", !cl.Has("no-noise")},
-                           {"kind", "simulated"}};
-
-  VirtualRig::Options vr;
-  vr.seed = seed;
-  vr.noise = !cl.Has("no-noise");
-  vr.progress = options.progress;
-  VirtualRig virtual_rig(rig, material, vr);
-  const RigCalibration calibration = NominalCalibration(virtual_rig.rig(), virtual_rig.maps());
-  const auto t_setup = SteadyTime::now();
-  CaptureJobResult result = RunCaptureJob(virtual_rig.rig(), calibration, virtual_rig.camera(),
-                                          virtual_rig.projector(), virtual_rig.clock(), options);
+  const std::string out_dir = options.out_dir;
+  const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
+  const CaptureJobResult& result = outcome.result;
+  const Brdf& material = *outcome.material;
   const auto t_capture = SteadyTime::now();
   if (!result.complete) {
     std::fprintf(stderr,
                  "zbrdf simulate: interrupted after %d frames; everything captured is journaled in %s.\n"
                  "Continue with the same command plus --resume.\n",
-                 result.capture.frames_captured, options.out_dir.c_str());
+                 result.capture.frames_captured, out_dir.c_str());
     return 130;
   }
   GroundTruthOptions truth_options;
   truth_options.samples = 1;
   while (truth_options.samples < truth_samples) truth_options.samples *= 2;
-  const GroundTruth truth = TrueZonalCoefficients(*material, result.zonal, truth_options);
+  const GroundTruth truth = TrueZonalCoefficients(material, result.zonal, truth_options);
   const double error = CoefficientError(result.zonal, truth);
   const auto t_truth = SteadyTime::now();
 
-  nlohmann::json report = CaptureJobReport(result, virtual_rig.clock().NowUs() * 1e-6);
-  report["material"] = material->Spec();
-  report["rig"] = rig.name;
-  report["preset"] = cl.Get("preset");
-  report["seed"] = seed;
-  report["noise"] = vr.noise;
+  nlohmann::json report = CaptureJobReport(result, outcome.device_time_s);
+  report["material"] = material.Spec();
+  report["rig"] = args.rig.name;
+  report["preset"] = args.preset_name;
+  report["seed"] = args.seed;
+  report["noise"] = args.noise;
   report["coefficient_error_in_zone"] = error;
   report["truth"] = {{"samples", truth_options.samples}, {"cells", truth.cells.size()}};
-  report["transport_entries"] = virtual_rig.model().transport_entries();
+  report["transport_entries"] = outcome.transport_entries;
   // Stages overlap: HDR merging runs on its own thread while frames are rendered.
   report["wall_time_s"] = {
-      {"simulate", Seconds(t0, t_setup) + result.wall_capture_s - result.processing.hdr_seconds},
+      {"simulate", outcome.setup_seconds + result.wall_capture_s - result.processing.hdr_seconds},
       {"patterns", result.pattern_seconds},
       {"hdr", result.processing.hdr_seconds},
       {"zonal", result.processing.zonal_seconds},
       {"truth", Seconds(t_capture, t_truth)},
       {"total", Seconds(t0, t_truth)}};
-  WriteSessionReport(options.out_dir, report);
+  WriteSessionReport(out_dir, report);
   if (json) {
     std::cout << report.dump(2) << "\n";
   } else {
-    std::printf("simulated %s on %s (%s preset) -> %s\n", material->Spec().c_str(), rig.name.c_str(),
-                cl.Get("preset").c_str(), options.out_dir.c_str());
+    std::printf("simulated %s on %s -> %s\n", material.Spec().c_str(), args.rig.name.c_str(),
+                out_dir.c_str());
     std::printf("%s", FormatCaptureSummary(report).c_str());
     std::printf("  results: %s/zonal.exr (coefficients), %s/hdr/ (HDR images), %s/report.json\n",
-                options.out_dir.c_str(), options.out_dir.c_str(), options.out_dir.c_str());
+                out_dir.c_str(), out_dir.c_str(), out_dir.c_str());
   }
   return 0;
 }
