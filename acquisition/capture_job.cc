@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <map>
+#include <optional>
 
 #include "basis/error.h"
 #include "simulate/direction_maps.h"
@@ -60,25 +62,25 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   CaptureJobResult result;
   const double settle_us =
       options.settle_us >= 0 ? options.settle_us : rig.timing.projector_settle_ms * 1e3;
-  SessionFolder session = options.resume ? SessionFolder::Open(options.out_dir)
-                                         : [&] {
-                                             if (options.out_dir.empty()) {
-                                               throw InputError("no output folder (--out)");
-                                             }
-                                             return SessionFolder::Create(options.out_dir,
-                                                                          nlohmann::json::object());
-                                           }();
+  if (options.out_dir.empty()) throw InputError("no output folder (--out)");
+  std::optional<SessionFolder> opened;
+  PlanOptions po;
   if (options.resume) {
-    if (!session.session().contains("plan")) {
+    opened = SessionFolder::Open(options.out_dir);
+    if (!opened->session().contains("plan")) {
       throw InputError("session " + options.out_dir + " has no plan in session.json; it cannot be resumed");
     }
-    result.plan = CapturePlan::FromJson(session.session().at("plan"));
-    if (session.session().value("rig_hash", std::string()) != std::to_string(RigHash(rig))) {
+    result.plan = CapturePlan::FromJson(opened->session().at("plan"));
+    if (opened->session().value("rig_hash", std::string()) != std::to_string(RigHash(rig))) {
       throw InputError("session " + options.out_dir + " was captured with another rig "
                        "description; resume it with the same --rig and --preset");
     }
   } else {
-    PlanOptions po;
+    // Everything is validated before the folder is created: a refused job leaves no trace.
+    if (std::filesystem::exists(options.out_dir + "/session.json")) {
+      throw InputError("folder " + options.out_dir +
+                       " already holds a session; resume it (--resume) or choose another --out");
+    }
     double covered_lo, covered_hi;
     calibration.CoveredThetaRange(&covered_lo, &covered_hi);
     if (options.zone_min_deg >= 0 && options.zone_max_deg > 0) {
@@ -102,6 +104,8 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
     po.exposures = options.exposures;
     po.stops_apart = options.stops_apart;
     po.repeats = options.repeats;
+    po.shortest_exposure_us = options.shortest_exposure_us > 0 ? options.shortest_exposure_us : 1000;
+    MakePlan(po);  // validates the options before metering
     result.metered_exposure_us = options.shortest_exposure_us > 0
                                      ? options.shortest_exposure_us
                                      : MeterExposure(camera, projector, clock, calibration, settle_us);
@@ -122,10 +126,11 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
                                    {"bit_depth", ci.bit_depth}}},
                        {"projector", {{"id", pi.id}, {"model", pi.model}, {"width", pi.width},
                                       {"height", pi.height}, {"bit_depth", pi.bit_depth}}}};
-    session.UpdateSession(info);
+    opened = SessionFolder::Create(options.out_dir, info);
   }
+  SessionFolder& session = *opened;
   result.predicted_capture_time_s = PredictCaptureTimeS(result.plan, rig.timing);
-  Report(options.progress, {"plan", 1, 1, "steps"});
+  if (options.on_plan) options.on_plan(result.plan, result.predicted_capture_time_s);
 
   const auto pattern_start = std::chrono::steady_clock::now();
   const PatternSet patterns(result.plan, calibration,

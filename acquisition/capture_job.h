@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -38,6 +39,9 @@ struct CaptureJobOptions {
   std::string pattern_cache_dir;    // "" : <cache>/zbrdf patterns (DefaultCacheDir())
   double settle_us = -1;            // after each new pattern; < 0: the rig's timing
   ProgressCallback progress;
+  // Called once the plan is known, before the first pattern is shown: the plan, and the
+  // predicted capture time on the rig (PredictCaptureTimeS), for the user to see up front.
+  std::function<void(const CapturePlan& plan, double predicted_s)> on_plan;
   const std::atomic<bool>* interrupt = nullptr;
   nlohmann::json session_extra;     // merged into session.json (material, seed, preset, ...)
 };

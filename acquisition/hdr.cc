@@ -15,6 +15,10 @@ namespace zbrdf {
 HdrImage MergeExposures(const std::vector<Frame>& frames, const RigCalibration& c,
                         const std::string& what, const HdrOptions& options) {
   if (frames.empty()) throw InputError(what + ": no frames to merge");
+  if (options.iterations < 1) {
+    throw InputError(what + ": HDR merge needs at least 1 reweighting iteration (got " +
+                     std::to_string(options.iterations) + ")");
+  }
   HdrImage hdr;
   hdr.width = frames[0].width;
   hdr.height = frames[0].height;
@@ -32,50 +36,84 @@ HdrImage MergeExposures(const std::vector<Frame>& frames, const RigCalibration& 
       throw InputError(what + ": a frame has no valid exposure time");
     }
   }
-  const double max_value = std::ldexp(1.0, frames[0].bit_depth) - 1;
-  const double safe = c.black_dn + options.safe_saturation_fraction * (c.saturation_dn - c.black_dn);
-  const double g = c.gain_e_per_dn, read2 = c.read_noise_e * c.read_noise_e + g * g / 12;
+  const float max_value = static_cast<float>(std::ldexp(1.0, frames[0].bit_depth) - 1);
+  const float safe = static_cast<float>(
+      c.black_dn + options.safe_saturation_fraction * (c.saturation_dn - c.black_dn));
+  const float black = static_cast<float>(c.black_dn);
+  const double g = c.gain_e_per_dn;
+  const float read2 = static_cast<float>(c.read_noise_e * c.read_noise_e + g * g / 12);
   hdr.rate.assign(pixels, 0.0f);
   hdr.variance.assign(pixels, 0.0f);
   hdr.valid.assign(pixels, 0);
-  // Longest exposure first: the first usable sample seeds the estimate.
-  std::vector<const Frame*> order;
-  for (const Frame& f : frames) order.push_back(&f);
+  // Shortest exposure first, so that the last usable sample written into the seed is the
+  // longest exposure's (the least noisy one).
+  struct Exposure {
+    const uint16_t* data;
+    float t_s, t2_s2, e_per_dn_per_s;  // t, t^2, g / t
+  };
+  std::vector<Exposure> order;
+  for (const Frame& f : frames) {
+    const double t = f.exposure_us * 1e-6;
+    order.push_back({f.data.data(), static_cast<float>(t), static_cast<float>(t * t),
+                     static_cast<float>(g / t)});
+  }
   std::sort(order.begin(), order.end(),
-            [](const Frame* a, const Frame* b) { return a->exposure_us > b->exposure_us; });
+            [](const Exposure& a, const Exposure& b) { return a.t_s < b.t_s; });
   std::atomic<int> saturated{0};
   std::atomic<bool> out_of_range{false};
-  ParallelFor(static_cast<int64_t>(pixels), 16384, [&](int64_t p0, int64_t p1) {
-    int local_saturated = 0;
-    std::vector<double> x(order.size()), t(order.size());
-    for (int64_t p = p0; p < p1; ++p) {
-      int n = 0;
-      for (const Frame* f : order) {
-        const double v = f->data[p];
-        if (v > max_value) out_of_range = true;
-        if (v >= safe) continue;
-        t[n] = f->exposure_us * 1e-6;
-        x[n] = (v - c.black_dn) * g / t[n];
-        ++n;
+  // Blocks of pixels with branch-free inner loops over one exposure at a time (they vectorize);
+  // float precision is ample for rates and weights (relative rounding 6e-8).
+  constexpr int64_t kBlock = 2048;
+  const int iterations = options.iterations;
+  ParallelFor(static_cast<int64_t>(pixels), kBlock, [&, safe, black, read2](int64_t p0, int64_t p1) {
+    float estimate[kBlock], sum[kBlock], weight_sum[kBlock], usable_count[kBlock];
+    const int64_t n = p1 - p0;
+    std::fill_n(estimate, n, 0.0f);
+    std::fill_n(usable_count, n, 0.0f);
+    unsigned block_max = 0;
+    for (const Exposure& e : order) {
+      const uint16_t* __restrict v = e.data + p0;
+      const float scale = e.e_per_dn_per_s;
+      for (int64_t i = 0; i < n; ++i) {
+        const unsigned raw = v[i];
+        block_max = std::max(block_max, raw);
+        const float value = static_cast<float>(raw);
+        const float usable = value < safe ? 1.0f : 0.0f;
+        const float x = std::max(0.0f, (value - black) * scale);
+        estimate[i] += usable * (x - estimate[i]);  // the longest usable exposure wins
+        usable_count[i] += usable;
       }
-      if (n == 0) {
-        ++local_saturated;
-        continue;
-      }
-      double estimate = std::max(0.0, x[0]), weight_sum = 0;
-      for (int it = 0; it < options.iterations; ++it) {
-        double sum = 0;
-        weight_sum = 0;
-        for (int j = 0; j < n; ++j) {
-          const double var = (std::max(0.0, estimate) * t[j] + read2) / (t[j] * t[j]);
-          sum += x[j] / var;
-          weight_sum += 1 / var;
+    }
+    if (block_max > max_value) out_of_range = true;
+    for (int it = 0; it < iterations; ++it) {
+      std::fill_n(sum, n, 0.0f);
+      std::fill_n(weight_sum, n, 0.0f);
+      for (const Exposure& e : order) {
+        const uint16_t* __restrict v = e.data + p0;
+        const float t = e.t_s, t2 = e.t2_s2, scale = e.e_per_dn_per_s;
+        for (int64_t i = 0; i < n; ++i) {
+          const float value = static_cast<float>(v[i]);
+          // weight 1 / var = t^2 / (X t + read^2), var evaluated at the current estimate
+          // (the denominator is >= read^2 > 0, so the division is always safe)
+          const float usable = value < safe ? 1.0f : 0.0f;
+          const float w = usable * (t2 / (estimate[i] * t + read2));
+          sum[i] += w * ((value - black) * scale);
+          weight_sum[i] += w;
         }
-        estimate = sum / weight_sum;
       }
-      hdr.rate[p] = static_cast<float>(estimate);
-      hdr.variance[p] = static_cast<float>(1 / weight_sum);
-      hdr.valid[p] = 1;
+      for (int64_t i = 0; i < n; ++i) {
+        const float mean = sum[i] / std::max(weight_sum[i], 1e-30f);
+        estimate[i] = std::max(0.0f, mean);
+      }
+    }
+    int local_saturated = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      const bool ok = usable_count[i] > 0;
+      local_saturated += !ok;
+      hdr.valid[p0 + i] = ok;
+      if (!ok) continue;
+      hdr.rate[p0 + i] = sum[i] / weight_sum[i];  // the weighted mean, negative if so
+      hdr.variance[p0 + i] = 1.0f / weight_sum[i];
     }
     saturated += local_saturated;
   });

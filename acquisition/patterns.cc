@@ -15,6 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "basis/error.h"
+#include "basis/hash.h"
 #include "basis/parallel.h"
 #include "basis/zonal_basis.h"
 #include "simulate/direction_maps.h"
@@ -28,13 +29,7 @@ namespace {
 constexpr int kCoarse = 3, kFine = 16;
 constexpr int kCacheVersion = 4;
 
-void HashBytes(uint64_t* h, const void* data, size_t size) {
-  const unsigned char* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < size; ++i) {
-    *h ^= p[i];
-    *h *= 1099511628211ull;
-  }
-}
+void HashBytes(uint64_t* h, const void* data, size_t size) { *h = Fnv1a64(data, size, *h); }
 
 template <typename T>
 void HashVector(uint64_t* h, const std::vector<T>& v) {
@@ -66,7 +61,7 @@ int NearestLevel(const RigCalibration& c, double r) {
 }  // namespace
 
 uint64_t PatternKey(const CapturePlan& plan, const RigCalibration& c) {
-  uint64_t h = 1469598103934665603ull;
+  uint64_t h = kFnv1a64Offset;
   const double zone[2] = {plan.theta_min_rad, plan.theta_max_rad};
   HashBytes(&h, zone, sizeof(zone));
   const int ints[5] = {plan.order, c.projector_width, c.projector_height, c.projector_bit_depth,

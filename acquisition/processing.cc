@@ -8,9 +8,11 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
+#include <ImfThreading.h>
 #include <half.h>
 
 #include "basis/error.h"
+#include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
 
 namespace zbrdf {
@@ -40,7 +42,7 @@ void WriteRgbHalfExr(const std::string& path, const cv::Mat& rgb) {
                                    sizeof(half), sizeof(half) * w));
   }
   try {
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(path.c_str(), header, Imf::globalThreadCount());
     file.setFrameBuffer(fb);
     file.writePixels(h);
   } catch (const std::exception& e) {
@@ -88,9 +90,61 @@ ZonalProcessor::~ZonalProcessor() {
     cv_.notify_all();
     worker_.join();
   }
+  StopImageWriter();
 }
 
-void ZonalProcessor::Start() { worker_ = std::thread([this] { Worker(); }); }
+void ZonalProcessor::QueueImage(std::string path, const HdrImage& hdr) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!image_writer_.joinable()) image_writer_ = std::thread([this] { ImageWriter(); });
+  image_cv_.wait(lock, [&] { return images_.size() < kMaxQueuedImages || error_; });
+  HdrImage copy;  // only what the view needs
+  copy.width = hdr.width;
+  copy.height = hdr.height;
+  copy.layout = hdr.layout;
+  copy.rate = hdr.rate;
+  images_.emplace_back(std::move(path), std::move(copy));
+  image_cv_.notify_all();
+}
+
+void ZonalProcessor::ImageWriter() {
+  while (true) {
+    std::pair<std::string, HdrImage> item;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      image_cv_.wait(lock, [&] { return images_done_ || !images_.empty(); });
+      if (images_.empty()) return;
+      item = std::move(images_.front());
+      images_.pop_front();
+      image_cv_.notify_all();
+    }
+    const auto start = Clock::now();
+    try {
+      WriteRgbHalfExr(item.first, HdrToRgb(item.second));
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+      image_cv_.notify_all();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.image_seconds += Since(start);
+  }
+}
+
+void ZonalProcessor::StopImageWriter() {
+  if (!image_writer_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    images_done_ = true;
+  }
+  image_cv_.notify_all();
+  image_writer_.join();
+}
+
+void ZonalProcessor::Start() {
+  // OpenEXR compresses the HDR images' line blocks on its own thread pool.
+  if (Imf::globalThreadCount() < WorkerThreads()) Imf::setGlobalThreadCount(WorkerThreads());
+  worker_ = std::thread([this] { Worker(); });
+}
 
 void ZonalProcessor::AddLobe(int lobe, std::vector<Frame> frames) {
   if (!worker_.joinable()) {
@@ -114,11 +168,16 @@ void ZonalProcessor::Worker() {
       item = std::move(queue_.front());
       queue_.pop_front();
     }
+    bool failed;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      failed = static_cast<bool>(error_);
+    }
     try {
-      if (!error_) Process(item.first, item.second);
+      if (!failed) Process(item.first, item.second);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
-      error_ = std::current_exception();
+      if (!error_) error_ = std::current_exception();
     }
   }
 }
@@ -134,10 +193,10 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
   auto start = Clock::now();
   HdrImage hdr = MergeExposures(frames, calibration_, "lobe " + name, options_.hdr);
   stats_.saturated_pixels += hdr.saturated_pixels;
-  if (options_.write_hdr_images && !options_.hdr_folder.empty()) {
-    WriteRgbHalfExr(options_.hdr_folder + "/" + SafeName(name) + ".exr", HdrToRgb(hdr));
-  }
   stats_.hdr_seconds += Since(start);
+  if (options_.write_hdr_images && !options_.hdr_folder.empty()) {
+    QueueImage(options_.hdr_folder + "/" + SafeName(name) + ".exr", hdr);
+  }
   start = Clock::now();
   if (planned.kind == PlannedLobe::Kind::kDark) {
     dark_ = std::move(hdr);
@@ -207,6 +266,7 @@ ZonalData ZonalProcessor::Finish() {
     cv_.notify_all();
     worker_.join();
   }
+  StopImageWriter();
   if (error_) std::rethrow_exception(error_);
   if (next_lobe_ != static_cast<int>(plan_.lobes.size())) {
     throw InputError("processing incomplete: " + std::to_string(next_lobe_) + " of " +

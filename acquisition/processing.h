@@ -3,7 +3,9 @@
 //
 // ZonalProcessor takes the lobes in plan order (the dark pattern first), each as soon as its
 // exposures are in; with Start() it works on a background thread while the capture goes on.
-// Memory stays at a few images: a positive lobe waits only for its negative partner.
+// Memory stays at a few images: a positive lobe waits only for its negative partner, and at
+// most kMaxQueuedImages HDR images wait for their writer thread (demosaicing and lossless PIZ
+// compression cost as much as the merge itself, so they run beside it).
 #pragma once
 
 #include <condition_variable>
@@ -31,7 +33,8 @@ struct ProcessingOptions {
 };
 
 struct ProcessingStats {
-  double hdr_seconds = 0;    // merging exposures (and writing HDR images)
+  double hdr_seconds = 0;    // merging exposures
+  double image_seconds = 0;  // demosaicing and writing HDR images (on their own thread)
   double zonal_seconds = 0;  // lobe subtraction, resampling, exitant projection
   int saturated_pixels = 0;  // pixel-lobes with every exposure saturated
   int filled_cells = 0;      // grid cells filled by interpolation (first function, any channel)
@@ -54,6 +57,9 @@ class ZonalProcessor {
  private:
   void Process(int lobe, const std::vector<Frame>& frames);
   void Worker();
+  void QueueImage(std::string path, const HdrImage& hdr);
+  void ImageWriter();
+  void StopImageWriter();
 
   const CapturePlan& plan_;
   std::vector<LobePatternInfo> patterns_;
@@ -75,6 +81,12 @@ class ZonalProcessor {
   std::deque<std::pair<int, std::vector<Frame>>> queue_;
   bool stopping_ = false;
   std::exception_ptr error_;
+  // HDR image writer.
+  static constexpr size_t kMaxQueuedImages = 3;
+  std::thread image_writer_;
+  std::condition_variable image_cv_;
+  std::deque<std::pair<std::string, HdrImage>> images_;
+  bool images_done_ = false;
 };
 
 }  // namespace zbrdf

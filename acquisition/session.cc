@@ -11,9 +11,9 @@
 #include <map>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "acquisition/frame_file.h"
 #include "basis/error.h"
+#include "basis/hash.h"
 
 namespace zbrdf {
 
@@ -32,11 +32,7 @@ std::string ReadBytes(const std::string& path, bool* ok) {
 }
 
 std::string Checksum(const std::string& bytes) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
+  const uint64_t h = Fnv1a64(bytes);
   char out[32];
   std::snprintf(out, sizeof(out), "fnv1a64:%016llx", static_cast<unsigned long long>(h));
   return out;
@@ -164,21 +160,9 @@ void SessionFolder::UpdateSession(const nlohmann::json& session) {
 }
 
 JournalEntry SessionFolder::WriteFrame(int index, const Frame& frame) {
-  if (frame.layout == PixelLayout::kRgb ||
-      frame.data.size() != static_cast<size_t>(frame.width) * frame.height) {
-    throw DeviceError("camera delivered a " + PixelLayoutName(frame.layout) + " frame of " +
-                      std::to_string(frame.data.size()) + " samples for " +
-                      std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                      " pixels; zbrdf captures raw mono or Bayer frames");
-  }
-  cv::Mat image(frame.height, frame.width, CV_16UC1, const_cast<uint16_t*>(frame.data.data()));
-  std::vector<uchar> png;
-  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
-    throw InputError("cannot encode frame " + std::to_string(index) + " as PNG");
-  }
+  const std::string bytes = EncodeFrameFile(frame);
   char name[32];
-  std::snprintf(name, sizeof(name), "frames/f%06d.png", index);
-  const std::string bytes(png.begin(), png.end());
+  std::snprintf(name, sizeof(name), "frames/f%06d.tiff", index);
   WriteFileAtomically(path_ + "/" + name, bytes);
   JournalEntry e;
   e.index = index;
@@ -241,11 +225,6 @@ Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
     throw InputError("frame " + path + " does not match its journal checksum (truncated or "
                      "corrupt); resume the capture to take it again");
   }
-  const cv::Mat image = cv::imdecode(std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_UNCHANGED);
-  if (image.empty() || image.type() != CV_16UC1 || image.cols != entry.width || image.rows != entry.height) {
-    throw InputError("frame " + path + " is not the " + std::to_string(entry.width) + "x" +
-                     std::to_string(entry.height) + " 16-bit image its journal line describes");
-  }
   Frame f;
   f.width = entry.width;
   f.height = entry.height;
@@ -254,7 +233,7 @@ Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
   f.exposure_us = entry.exposure_us;
   f.frame_id = entry.frame_id;
   f.timestamp_us = entry.timestamp_us;
-  f.data.assign(image.ptr<uint16_t>(0), image.ptr<uint16_t>(0) + image.total());
+  f.data = DecodeFrameFile(bytes, entry.width, entry.height, "frame " + path);
   return f;
 }
 

@@ -3,7 +3,8 @@
 // Folder layout (docs/session-folder.md):
 //   session.json    rig (canonical YAML and hash), plan, calibration reference, material (for
 //                   simulated sessions), seed, devices, software version
-//   frames/         raw frames, lossless 16-bit PNG, f<index>.png (index: the plan's frame index)
+//   frames/         raw frames, lossless 16-bit TIFF/zstd (frame_file.h), f<index>.tiff
+//                   (index: the plan's frame index)
 //   journal.jsonl   one JSON line per frame written: index, lobe, exposure (requested, actual),
 //                   repeat, frame id, timestamps, file, FNV-1a checksum of the file
 //   hdr/            HDR image per lobe (RGB half-float OpenEXR, for viewing)

@@ -203,19 +203,37 @@ GridImage PixelToGrid::Resample(const std::vector<float>& value, const std::vect
 Eigen::MatrixXd CellIntegrals(const ExitantGrid& grid, const ZonalBasis& zb) {
   const int n = zb.size();
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(grid.cells(), n);
-  // Per cell: Gauss-Legendre in cos(theta) (enough for a 1 deg row at order <= 30) x
-  // Gauss-Legendre in phi over the cell.
-  const GaussLegendreRule gt = GaussLegendre(4), gp = GaussLegendre(4);
+  // Per cell: Gauss-Legendre in cos(theta) x Gauss-Legendre in phi. The Z_lm with odd m carry a
+  // factor sqrt(1 - t^2) that has a square-root singularity at the zone's edges, so the first
+  // and the last row integrate in u with cos(theta) = edge -+ (row width) u^2, which makes the
+  // integrand smooth (polynomial for the Z_lm); inside rows the integrand is smooth already.
+  constexpr int kNodes = 6;
+  const GaussLegendreRule rule = GaussLegendre(kNodes);
+  const double lower = zb.zone().cos_lower(), upper = zb.zone().cos_upper();
   std::vector<double> z(n);
   for (int i = 0; i < grid.n_theta; ++i) {
     const double c0 = std::cos(grid.ThetaHigh(i)), c1 = std::cos(grid.ThetaLow(i));
+    const bool at_upper = i == 0, at_lower = i == grid.n_theta - 1;
+    double xs[kNodes], wx[kNodes];
+    for (int q = 0; q < kNodes; ++q) {
+      const double u = 0.5 * (rule.nodes[q] + 1);  // in [0, 1]
+      if (at_upper && !at_lower) {
+        xs[q] = upper - (upper - c0) * u * u;
+        wx[q] = 0.5 * rule.weights[q] * 2 * (upper - c0) * u;
+      } else if (at_lower && !at_upper) {
+        xs[q] = lower + (c1 - lower) * u * u;
+        wx[q] = 0.5 * rule.weights[q] * 2 * (c1 - lower) * u;
+      } else {
+        xs[q] = c0 + (c1 - c0) * u;
+        wx[q] = 0.5 * rule.weights[q] * (c1 - c0);
+      }
+    }
     for (int j = 0; j < grid.n_phi; ++j) {
-      for (int qi = 0; qi < 4; ++qi) {
-        const double x = 0.5 * (c0 + c1) + 0.5 * (c1 - c0) * gt.nodes[qi];
-        for (int qj = 0; qj < 4; ++qj) {
-          const double phi = (j + 0.5 + 0.5 * gp.nodes[qj]) * grid.phi_step_rad;
-          const double weight = 0.25 * gt.weights[qi] * gp.weights[qj] * (c1 - c0) * grid.phi_step_rad;
-          zb.Eval(x, phi, z.data());
+      for (int qi = 0; qi < kNodes; ++qi) {
+        for (int qj = 0; qj < kNodes; ++qj) {
+          const double phi = (j + 0.5 + 0.5 * rule.nodes[qj]) * grid.phi_step_rad;
+          const double weight = wx[qi] * 0.5 * rule.weights[qj] * grid.phi_step_rad;
+          zb.Eval(xs[qi], phi, z.data());
           for (int k = 0; k < n; ++k) a(i * grid.n_phi + j, k) += weight * z[k];
         }
       }
@@ -228,6 +246,18 @@ void ProjectExitant(ZonalData* data) {
   const ZonalBasis zb(data->zone(), data->order);
   const Eigen::MatrixXd a = CellIntegrals(data->grid, zb);
   const int n = zb.size(), cells = data->grid.cells();
+  // Least squares for band-limited cell averages: G = A^T D^-1 A (D = cell solid angles) is the
+  // Gram matrix of the cell-averaged basis, and M = A G^-1 maps cell values to coefficients.
+  Eigen::VectorXd inv_area(cells);
+  for (int c = 0; c < cells; ++c) inv_area[c] = 1 / data->grid.CellSolidAngle(c / data->grid.n_phi);
+  const Eigen::MatrixXd gram = a.transpose() * inv_area.asDiagonal() * a;
+  const Eigen::LLT<Eigen::MatrixXd> llt(gram);
+  if (llt.info() != Eigen::Success) {
+    throw InputError("the exitant grid is too coarse for order " + std::to_string(data->order) +
+                     ": choose smaller --grid cells");
+  }
+  const Eigen::MatrixXd m = llt.solve(a.transpose()).transpose();  // cells x n
+  const Eigen::MatrixXd m2 = m.cwiseProduct(m);
   for (int ch = 0; ch < 3; ++ch) {
     Eigen::MatrixXd values(n, cells), variances(n, cells);
     for (int k = 0; k < n; ++k) {
@@ -236,8 +266,8 @@ void ProjectExitant(ZonalData* data) {
         variances(k, c) = data->functions[k].variance[ch][c];
       }
     }
-    data->tensor[ch] = values * a;
-    data->tensor_variance[ch] = variances * a.cwiseProduct(a);
+    data->tensor[ch] = values * m;
+    data->tensor_variance[ch] = variances * m2;
   }
 }
 

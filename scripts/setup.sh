@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libceres-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-highgui-dev
-  libopenexr-dev nlohmann-json3-dev libyaml-cpp-dev
+  libopenexr-dev libtiff-dev nlohmann-json3-dev libyaml-cpp-dev
   libaravis-dev aravis-tools libusb-1.0-0-dev libx11-dev libxrandr-dev
   libgtest-dev libbenchmark-dev
   umockdev xvfb x11-utils

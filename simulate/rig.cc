@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "basis/error.h"
+#include "basis/hash.h"
 
 namespace zbrdf {
 
@@ -518,14 +519,7 @@ std::string WriteRigYaml(const Rig& rig) {
   return std::string(out.c_str()) + "\n";
 }
 
-uint64_t RigHash(const Rig& rig) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : WriteRigYaml(rig)) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
+uint64_t RigHash(const Rig& rig) { return Fnv1a64(WriteRigYaml(rig)); }
 
 Preset ParsePreset(const std::string& name) {
   if (name == "fast") return Preset::kFast;

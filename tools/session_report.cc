@@ -28,6 +28,21 @@ nlohmann::json CaptureJobReport(const CaptureJobResult& r, double device_time_s)
   return j;
 }
 
+void PrintPlanSummary(const CapturePlan& plan, double predicted_s) {
+  std::string bracket;
+  for (double t : plan.exposures_us) {
+    char b[32];
+    std::snprintf(b, sizeof(b), "%s%.4g", bracket.empty() ? "" : ", ", t * 1e-3);
+    bracket += b;
+  }
+  std::fprintf(stderr,
+               "plan: zone %.1f-%.1f deg, order %d: %zu patterns x %zu exposures (%s ms) x %d = %d "
+               "frames; predicted capture time on the rig %.1f s\n",
+               RadToDeg(plan.theta_min_rad), RadToDeg(plan.theta_max_rad), plan.order,
+               plan.lobes.size(), plan.exposures_us.size(), bracket.c_str(), plan.repeats,
+               plan.frame_count(), predicted_s);
+}
+
 void WriteSessionReport(const std::string& session_dir, const nlohmann::json& report) {
   WriteFileAtomically(session_dir + "/report.json", report.dump(2) + "\n");
 }

@@ -16,6 +16,10 @@ nlohmann::json CaptureJobReport(const CaptureJobResult& result, double device_ti
 // Writes report.json atomically into the session folder.
 void WriteSessionReport(const std::string& session_dir, const nlohmann::json& report);
 
+// One line to stderr before the capture starts: zone, order, patterns, bracket, frames and the
+// predicted capture time on the rig. Suitable as CaptureJobOptions::on_plan.
+void PrintPlanSummary(const CapturePlan& plan, double predicted_s);
+
 // A few human-readable lines.
 std::string FormatCaptureSummary(const nlohmann::json& report);
 

@@ -52,6 +52,7 @@ int RunCapture(const std::vector<std::string>& argv) {
   TerminalProgress progress(false);
   job.progress = progress.Callback();
   job.interrupt = InstallInterruptHandler();
+  job.on_plan = PrintPlanSummary;
   nlohmann::json report;
   CaptureJobResult result;
   if (cl.Has("hardware")) {
@@ -91,7 +92,8 @@ int RunCapture(const std::vector<std::string>& argv) {
   report["wall_time_s"] = {{"capture", result.wall_capture_s},
                            {"patterns", result.pattern_seconds},
                            {"hdr", result.processing.hdr_seconds},
-                           {"zonal", result.processing.zonal_seconds}};
+                           {"zonal", result.processing.zonal_seconds},
+                           {"hdr_images", result.processing.image_seconds}};
   WriteSessionReport(job.out_dir, report);
   if (cl.Has("json")) {
     std::cout << report.dump(2) << "\n";

@@ -51,6 +51,7 @@ int RunProcess(const std::vector<std::string>& argv) {
   report["processing"] = {{"seconds", total},
                           {"read_seconds", r.read_seconds},
                           {"hdr_seconds", r.processing.hdr_seconds},
+                          {"hdr_image_seconds", r.processing.image_seconds},
                           {"zonal_seconds", r.processing.zonal_seconds},
                           {"saturated_pixel_lobes", r.processing.saturated_pixels},
                           {"grid_cells_filled", r.processing.filled_cells},
@@ -59,9 +60,10 @@ int RunProcess(const std::vector<std::string>& argv) {
   if (cl.Has("json")) {
     std::cout << report["processing"].dump(2) << "\n";
   } else {
-    std::printf("processed %s: %zu patterns in %.2f s (reading %.2f s, HDR %.2f s, zonal %.2f s) -> %s/zonal.exr\n",
+    std::printf("processed %s: %zu patterns in %.2f s (reading %.2f s, HDR %.2f s, zonal %.2f s; "
+                "HDR images %.2f s beside them) -> %s/zonal.exr\n",
                 dir.c_str(), r.plan.lobes.size(), total, r.read_seconds, r.processing.hdr_seconds,
-                r.processing.zonal_seconds, dir.c_str());
+                r.processing.zonal_seconds, r.processing.image_seconds, dir.c_str());
   }
   return 0;
 }

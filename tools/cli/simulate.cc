@@ -64,6 +64,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
   TerminalProgress progress(false);
   options.progress = progress.Callback();
   options.interrupt = InstallInterruptHandler();
+  options.on_plan = PrintPlanSummary;
   const std::string out_dir = options.out_dir;
   const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
   const CaptureJobResult& result = outcome.result;
@@ -98,6 +99,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
       {"patterns", result.pattern_seconds},
       {"hdr", result.processing.hdr_seconds},
       {"zonal", result.processing.zonal_seconds},
+      {"hdr_images", result.processing.image_seconds},
       {"truth", Seconds(t_capture, t_truth)},
       {"total", Seconds(t0, t_truth)}};
   WriteSessionReport(out_dir, report);

@@ -1,0 +1,29 @@
+// FNV-1a, 64-bit (Fowler, Noll, Vo; http://www.isthe.com/chongo/tech/comp/fnv/): the hash of
+// cache keys, rig identities and frame checksums. Not cryptographic: it detects damage, not
+// tampering.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+namespace zbrdf {
+
+inline constexpr uint64_t kFnv1a64Offset = 14695981039346656037ull;
+inline constexpr uint64_t kFnv1a64Prime = 1099511628211ull;
+
+// Continues hash h over size bytes (start with kFnv1a64Offset).
+inline uint64_t Fnv1a64(const void* data, size_t size, uint64_t h = kFnv1a64Offset) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < size; ++i) {
+    h ^= p[i];
+    h *= kFnv1a64Prime;
+  }
+  return h;
+}
+
+inline uint64_t Fnv1a64(std::string_view bytes, uint64_t h = kFnv1a64Offset) {
+  return Fnv1a64(bytes.data(), bytes.size(), h);
+}
+
+}  // namespace zbrdf
