@@ -100,7 +100,7 @@ void ProjectExitant(ZonalData* data);
 // zonal.exr: a two-part OpenEXR file. Part "grid" (n_phi x n_theta pixels, rows = theta):
 // channels Z<l>_<m>.{R,G,B}, Z<l>_<m>.var.{R,G,B}, weight.{R,G,B}, filled; part "tensor"
 // (n x n pixels): channels z.{R,G,B}, var.{R,G,B}. Header attributes zbrdf.* carry the zone,
-// order, grid and the JSON attributes. docs/formats.md specifies it.
+// order, grid and the JSON attributes. docs/session-folder.md specifies it.
 void WriteZonalExr(const std::string& path, const ZonalData& data);
 // Throws InputError naming the file and what is wrong.
 ZonalData ReadZonalExr(const std::string& path);
