@@ -243,6 +243,7 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
     variance[p] = static_cast<float>(var);
     valid[p] = 1;
   }
+  if (options_.pixel_values) options_.pixel_values(k, value, valid);
   GridImage grid = resampler_->Resample(value, variance, valid);
   for (int ch = 0; ch < 3; ++ch) {
     const double scale = calibration_.channel_scale[ch];

@@ -10,6 +10,7 @@
 
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -30,6 +31,11 @@ struct ProcessingOptions {
   bool write_hdr_images = true;                     // hdr/<lobe>.exr under hdr_folder
   std::string hdr_folder;
   HdrOptions hdr;
+  // If set, called (on the processing thread) with each basis function's per-pixel values
+  // z_k(pixel), before resampling and the channel scale, and which pixels are valid: the
+  // gray-card calibration derives the camera's flat field from them.
+  std::function<void(int k, const std::vector<float>& value, const std::vector<uint8_t>& valid)>
+      pixel_values;
 };
 
 struct ProcessingStats {

@@ -56,6 +56,9 @@ const std::vector<ModelInfo>& Models() {
       {"mirror", {"R"}, "R", "mirror:R=R  (or mirror:R)  perfect mirror"},
       {"merl", {}, nullptr, "merl:NAME  bundled measured material (network), names below"},
       {"file", {}, nullptr, "file:PATH.binary  MERL table;  file:PATH.json  network file"},
+      {"target", {}, nullptr,
+       "target:white | target:graycard | target:mirror  calibration targets: 95% white, 18% "
+       "gray card (Lambertian), front-surface mirror (R 0.92)"},
   };
   return models;
 }
@@ -299,6 +302,15 @@ std::unique_ptr<Brdf> MakeBrdf(const std::string& spec) {
       return NbrdfBrdf::FromName(rest);
     }
     if (model_name == "file") return MakeFromFile(spec, rest);
+    if (model_name == "target") {
+      const std::string target = Lower(rest);
+      if (target == "white") return std::make_unique<LambertianBrdf>(Rgb(kWhiteTargetAlbedo));
+      if (target == "graycard" || target == "gray-card") {
+        return std::make_unique<LambertianBrdf>(Rgb(kGrayCardAlbedo));
+      }
+      if (target == "mirror") return std::make_unique<MirrorBrdf>(Rgb(kTargetMirrorReflectance));
+      throw InputError("unknown calibration target '" + rest + "'; valid: white, graycard, mirror");
+    }
     return MakeAnalytic(spec, *model, rest);
   } catch (const InputError& e) {
     const std::string what = e.what();

@@ -9,6 +9,7 @@
 //   mirror:R=0.95                mirror:0.9
 //   merl:blue-acrylic            a bundled measured material (network), see MaterialSpecHelp()
 //   file:PATH.binary             a MERL table;   file:PATH.json: a network file
+//   target:white  target:graycard  target:mirror   the calibration targets (constants below)
 //
 // MODEL:PARAMETERS, parameters separated by commas. A token with '=' starts a parameter; a token
 // without one extends the previous parameter's value list, so "kd=0.1,0.2,0.5" is one RGB value.
@@ -29,6 +30,12 @@
 #include "fitting/brdf.h"
 
 namespace zbrdf {
+
+// The calibration targets: a diffuse white target, an 18% gray card (the reflectance standard
+// of the gray-card calibration) and a front-surface aluminium mirror.
+inline constexpr double kWhiteTargetAlbedo = 0.95;
+inline constexpr double kGrayCardAlbedo = 0.18;
+inline constexpr double kTargetMirrorReflectance = 0.92;
 
 // Builds the BRDF a spec names. Throws InputError naming the spec and the bad part, and listing
 // what is valid: an unknown model or key, a missing parameter, a value that is not a number or

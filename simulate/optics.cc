@@ -268,14 +268,26 @@ double ThinLens::PixelEtendue(double px, double py) const {
 }
 
 // ---------------------------------------------------------------------------------------------
-OpticalSystem::OpticalSystem(const Rig& rig)
+OpticalSystem::OpticalSystem(const Rig& rig, std::shared_ptr<const DomeDesign> design,
+                             std::shared_ptr<const DomeSurface> dome)
     : rig_(rig),
-      design_(DesignDome(rig)),
+      design_(std::move(design)),
       parabola_(rig.parabola, rig.misalignment),
-      dome_(design_),
+      dome_(std::move(dome)),
       camera_(rig.camera, rig.misalignment.camera_offset_mm, rig.misalignment.camera_tilt_deg),
       projector_(rig.projector.lens, rig.misalignment.projector_offset_mm,
                  rig.misalignment.projector_tilt_deg) {}
+
+OpticalSystem::OpticalSystem(const Rig& rig)
+    : OpticalSystem(rig, std::make_shared<const DomeDesign>(DesignDome(rig)), nullptr) {
+  dome_ = std::make_shared<const DomeSurface>(*design_);
+}
+
+OpticalSystem OpticalSystem::WithMisalignment(const Misalignment& misalignment) const {
+  Rig rig = rig_;
+  rig.misalignment = misalignment;
+  return OpticalSystem(rig, design_, dome_);
+}
 
 OpticalSystem::SamplePath OpticalSystem::TraceToSample(const Ray& ray,
                                                       std::vector<Vec3>* vertices) const {
@@ -290,7 +302,7 @@ OpticalSystem::SamplePath OpticalSystem::TraceToSample(const Ray& ray,
   }
   if (vertices) vertices->push_back(p_hit->point);
   const Ray r1{p_hit->point, Normalize(Reflect(ray.direction, p_hit->normal))};
-  const auto d_hit = dome_.Intersect(r1, kEps);
+  const auto d_hit = dome_->Intersect(r1, kEps);
   if (!d_hit) {
     path.status = PathStatus::kMissedDome;
     return path;
@@ -328,7 +340,7 @@ OpticalSystem::LensPath OpticalSystem::TraceFromSample(const Vec3& point, const 
   const Ray r0{point, w};
   bool from_above = false;
   if (parabola_.Intersect(r0, kEps, &from_above)) return path;  // the parabola's underside
-  const auto d_hit = dome_.Intersect(r0, kEps);
+  const auto d_hit = dome_->Intersect(r0, kEps);
   if (!d_hit) return path;
   const Ray r1{d_hit->point, Normalize(Reflect(r0.direction, d_hit->normal))};
   const auto p_hit = parabola_.Intersect(r1, kEps, &from_above);

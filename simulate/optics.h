@@ -8,6 +8,7 @@
 // of the Euler step. All positions in mm, in the sample frame (DESIGN.md section 2).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -123,6 +124,9 @@ class ThinLens {
 class OpticalSystem {
  public:
   explicit OpticalSystem(const Rig& rig);
+  // The same mirrors (the dome design is shared, not recomputed) with other device and mirror
+  // misalignments: cheap enough to call inside a fit.
+  OpticalSystem WithMisalignment(const Misalignment& misalignment) const;
 
   enum class PathStatus { kLanded, kMissedParabola, kMissedDome, kBlocked, kOffSample };
   struct SamplePath {
@@ -144,17 +148,19 @@ class OpticalSystem {
   LensPath TraceFromSample(const Vec3& point, const Vec3& w) const;
 
   const Rig& rig() const { return rig_; }
-  const DomeDesign& design() const { return design_; }
+  const DomeDesign& design() const { return *design_; }
   const ThinLens& camera() const { return camera_; }
   const ThinLens& projector() const { return projector_; }
   const Paraboloid& parabola() const { return parabola_; }
-  const DomeSurface& dome() const { return dome_; }
+  const DomeSurface& dome() const { return *dome_; }
 
  private:
+  OpticalSystem(const Rig& rig, std::shared_ptr<const DomeDesign> design,
+                std::shared_ptr<const DomeSurface> dome);
   Rig rig_;
-  DomeDesign design_;
+  std::shared_ptr<const DomeDesign> design_;
   Paraboloid parabola_;
-  DomeSurface dome_;
+  std::shared_ptr<const DomeSurface> dome_;
   ThinLens camera_, projector_;
 };
 

@@ -426,6 +426,55 @@ Rig LoadRig(const std::string& path) {
 }
 
 namespace {
+
+// Merges overlay into base: maps key by key, anything else replaced.
+void MergeYaml(YAML::Node base, const YAML::Node& overlay) {
+  for (auto it = overlay.begin(); it != overlay.end(); ++it) {
+    const std::string key = it->first.as<std::string>();
+    if (it->second.IsMap() && base[key] && base[key].IsMap()) {
+      MergeYaml(base[key], it->second);
+    } else {
+      base[key] = it->second;
+    }
+  }
+}
+
+}  // namespace
+
+Rig ApplyRigOverlayText(const Rig& rig, const std::string& yaml_text,
+                        const std::string& name_for_errors) {
+  YAML::Node overlay;
+  try {
+    overlay = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError("rig overlay " + name_for_errors + ": not valid YAML: " + e.what());
+  }
+  if (!overlay || overlay.IsNull()) return rig;
+  if (!overlay.IsMap()) {
+    throw InputError("rig overlay " + name_for_errors +
+                     ": must be a YAML map of rig sections, e.g. misalignment: {...}");
+  }
+  YAML::Node base = YAML::Load(WriteRigYaml(rig));
+  MergeYaml(base, overlay);
+  YAML::Emitter out;
+  out << base;
+  Rig built = ParseRig(std::string(out.c_str()) + "\n", rig.name + " + " + name_for_errors);
+  built.source_path = rig.source_path;
+  return built;
+}
+
+Rig ApplyRigOverlay(const Rig& rig, const std::string& overlay_path) {
+  std::ifstream in(overlay_path);
+  if (!in) {
+    throw InputError("rig overlay " + overlay_path +
+                     " cannot be read; give a YAML file of the rig fields to change");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  return ApplyRigOverlayText(rig, text.str(), overlay_path);
+}
+
+namespace {
 void EmitLens(YAML::Emitter& out, const ThinLensParams& lens) {
   out << YAML::Key << "resolution" << YAML::Value << YAML::Flow << YAML::BeginSeq << lens.width
       << lens.height << YAML::EndSeq;

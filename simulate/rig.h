@@ -117,6 +117,15 @@ Rig ParseRig(const std::string& yaml_text, const std::string& name_for_errors);
 // The canonical YAML of a rig (all fields, fixed order), as stored in session.json and used
 // for the map cache key. ParseRig(WriteRigYaml(r)) == r.
 std::string WriteRigYaml(const Rig& rig);
+// The rig as built: `rig` with the fields of an overlay (a "faults" file) replaced, e.g.
+//   misalignment: {projector_offset_mm: [1, 0, 0], camera_tilt_deg: [0.5, 0]}
+//   projector: {gamma: 2.2, flat_field_falloff: 0.3}
+// Maps merge key by key; any other value replaces the rig's. The result is validated like a
+// rig file; errors name `name_for_errors`. Used to simulate a rig that differs from its design.
+Rig ApplyRigOverlayText(const Rig& rig, const std::string& yaml_text,
+                        const std::string& name_for_errors);
+// The same from a file. Throws InputError if it cannot be read.
+Rig ApplyRigOverlay(const Rig& rig, const std::string& overlay_path);
 // 64-bit FNV-1a hash of the canonical YAML: identifies the rig's geometry for caches.
 uint64_t RigHash(const Rig& rig);
 

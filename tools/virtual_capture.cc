@@ -2,8 +2,12 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "acquisition/session.h"
+#include "calibration/calibration_data.h"
+#include "simulate/direction_maps.h"
 #include "basis/error.h"
 #include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
@@ -27,6 +31,9 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     args.material_spec = material;
     args.seed = s.value("seed", args.seed);
     args.noise = s.value("noise", args.noise);
+    args.faults_yaml = s.value("faults", std::string());
+    args.faults_name = "session faults";
+    if (args.calibration_folder.empty()) args.calibration_folder = s.value("calibration_folder", std::string());
   }
   if (args.material_spec.empty()) throw InputError("no --material given for the virtual rig");
   if (!args.job.resume && std::filesystem::exists(args.job.out_dir + "/session.json")) {
@@ -39,9 +46,13 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
   vr.seed = args.seed;
   vr.noise = args.noise;
   vr.progress = args.job.progress;
-  VirtualRig rig(args.rig, out.material, vr);
+  const Rig as_built = args.faults_yaml.empty()
+                           ? args.rig
+                           : ApplyRigOverlayText(args.rig, args.faults_yaml, args.faults_name);
+  VirtualRig rig(as_built, out.material, vr);
   out.transport_entries = rig.model().transport_entries();
-  const RigCalibration calibration = NominalCalibration(rig.rig(), rig.maps());
+  const RigCalibration calibration =
+      LoadRigCalibration(args.rig, args.calibration_folder, DefaultCacheDir(), args.job.progress);
   out.setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   args.job.session_extra = {{"material", out.material->Spec()},
@@ -49,7 +60,12 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
                             {"preset", args.preset_name},
                             {"noise", args.noise},
                             {"kind", "simulated"}};
-  out.result = RunCaptureJob(rig.rig(), calibration, rig.camera(), rig.projector(), rig.clock(),
+  if (!args.faults_yaml.empty()) args.job.session_extra["faults"] = args.faults_yaml;
+  if (!args.calibration_folder.empty()) {
+    args.job.session_extra["calibration_folder"] =
+        std::filesystem::absolute(args.calibration_folder).lexically_normal().string();
+  }
+  out.result = RunCaptureJob(args.rig, calibration, rig.camera(), rig.projector(), rig.clock(),
                              args.job);
   out.device_time_s = rig.clock().NowUs() * 1e-6;
   return out;
@@ -61,6 +77,22 @@ Rig SessionRig(const std::string& session_dir) {
     throw InputError(session_dir + "/session.json has no rig description; the session is damaged");
   }
   return ParseRig(s["rig"].get<std::string>(), session_dir + "/session.json (rig)");
+}
+
+}  // namespace zbrdf
+
+namespace zbrdf {
+
+std::string ReadTextFile(const std::string& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw InputError(what + " " + path + " cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string SessionCalibrationFolder(const std::string& session_dir) {
+  return SessionFolder::Open(session_dir).session().value("calibration_folder", std::string());
 }
 
 }  // namespace zbrdf

@@ -11,9 +11,13 @@
 namespace zbrdf {
 
 struct VirtualCaptureArgs {
-  Rig rig;                  // preset applied
+  Rig rig;                  // the design, preset applied
   std::string preset_name;  // for session.json
   std::string material_spec;
+  // The rig as built differs from the design by this rig overlay (YAML text; "" : it does not).
+  std::string faults_yaml, faults_name;
+  // Calibration folder for patterns and processing ("" : the design's nominal calibration).
+  std::string calibration_folder;
   uint64_t seed = 1;
   bool noise = true;
   CaptureJobOptions job;
@@ -27,12 +31,16 @@ struct VirtualCaptureOutcome {
   size_t transport_entries = 0;
 };
 
-// Builds the virtual rig for the material and runs the capture job on it. A resumed session
-// keeps its own material, seed and noise setting (from session.json) unless they are given
-// explicitly and agree.
+// Builds the virtual rig (as built) for the material and runs the capture job on it with the
+// calibration. A resumed session keeps its own material, seed, noise setting, faults and
+// calibration (from session.json) unless they are given explicitly and agree.
 VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args);
 
 // The rig description a session was captured with (session.json), parsed and validated.
 Rig SessionRig(const std::string& session_dir);
+// The calibration folder a session was captured with ("" : the nominal calibration).
+std::string SessionCalibrationFolder(const std::string& session_dir);
+// A text file's contents; InputError naming `what` and the path if it cannot be read.
+std::string ReadTextFile(const std::string& path, const std::string& what);
 
 }  // namespace zbrdf

@@ -1,12 +1,14 @@
 // zbrdf capture: a capture session on a rig: hardware devices (--hardware) or the virtual rig
 // (--material), processed into zonal.exr. Interrupted sessions resume from their journal.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
 #include "acquisition/capture_job.h"
 #include "basis/error.h"
+#include "calibration/calibration_data.h"
 #include "drivers/hardware_rig.h"
 #include "simulate/direction_maps.h"
 #include "tools/cli/command.h"
@@ -33,6 +35,8 @@ int RunCapture(const std::vector<std::string>& argv) {
       .Option("material", "SPEC", "capture this material on the virtual rig instead of hardware")
       .Option("preset", "P", "virtual rig: fast or full", "full")
       .Option("seed", "N", "virtual rig: seed of noise and integration", "1")
+      .Option("calibration", "DIR", "calibration folder (zbrdf calibrate) for patterns and processing")
+      .Option("faults", "FILE", "virtual rig: YAML of rig fields that differ from the design as built")
       .Flag("resume", "continue the interrupted session in --out")
       .Flag("json", "print a JSON report instead of the summary");
   AddPlanFlags(cl);
@@ -61,12 +65,17 @@ int RunCapture(const std::vector<std::string>& argv) {
     SteadyClock clock;
     auto camera = OpenRigCamera(hardware, &clock);
     auto projector = OpenRigProjector(hardware);
-    const OpticalSystem optics(rig);
+    if (cl.Has("faults")) throw InputError("--faults simulates a rig; it does not apply to --hardware");
+    const std::string calibration_folder = cl.Has("calibration") ? cl.Get("calibration") : "";
     const RigCalibration calibration =
-        NominalCalibration(rig, LoadOrBuildRigMaps(optics, DefaultCacheDir(), job.progress));
+        LoadRigCalibration(rig, calibration_folder, DefaultCacheDir(), job.progress);
     job.settle_us = 1e3 * (hardware.sync.mode == SyncMode::kHardware ? hardware.sync.hardware_settle_ms
                                                                      : hardware.sync.software_settle_ms);
     job.session_extra = {{"kind", "hardware"}, {"hardware_rig", cl.Get("hardware")}};
+    if (!calibration_folder.empty()) {
+      job.session_extra["calibration_folder"] =
+          std::filesystem::absolute(calibration_folder).lexically_normal().string();
+    }
     const int64_t start = clock.NowUs();
     result = RunCaptureJob(rig, calibration, *camera, *projector, clock, job);
     report = CaptureJobReport(result, (clock.NowUs() - start) * 1e-6);
@@ -76,6 +85,11 @@ int RunCapture(const std::vector<std::string>& argv) {
     args.rig = ApplyPreset(LoadRig(cl.Get("rig")), ParsePreset(args.preset_name));
     if (cl.Has("material")) args.material_spec = cl.Get("material");
     args.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
+    if (cl.Has("calibration")) args.calibration_folder = cl.Get("calibration");
+    if (cl.Has("faults")) {
+      args.faults_name = cl.Get("faults");
+      args.faults_yaml = ReadTextFile(args.faults_name, "faults file");
+    }
     args.job = job;
     const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
     result = outcome.result;

@@ -1,5 +1,6 @@
 // zbrdf process: re-processes a captured session from its frames.
 #include <cstdio>
+#include <filesystem>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -9,6 +10,7 @@
 #include "acquisition/capture_job.h"
 #include "acquisition/session.h"
 #include "basis/error.h"
+#include "calibration/calibration_data.h"
 #include "simulate/direction_maps.h"
 #include "tools/cli/command.h"
 #include "tools/session_report.h"
@@ -22,18 +24,28 @@ int RunProcess(const std::vector<std::string>& argv) {
   CommandLine cl("process",
                  "Re-processes a session from its frames on disk: verifies every frame against\n"
                  "its journal checksum, merges HDR per pattern, extracts the zonal coefficients and\n"
-                 "writes zonal.exr and the processing part of report.json.");
+                 "writes zonal.exr and the processing part of report.json. The calibration is the\n"
+                 "session's own (session.json) unless --calibration names another.");
   cl.Positional("SESSION", "session folder (from zbrdf capture or zbrdf simulate)")
       .Option("grid", "DTHETA,DPHI", "exitant grid cell size in degrees", "1,2")
+      .Option("calibration", "DIR", "calibration folder to apply (default: the session's own, if any)")
       .Flag("no-hdr-images", "do not write the per-pattern HDR images (hdr/)")
       .Flag("json", "print a JSON report instead of the summary");
   if (!cl.Parse(argv)) return 0;
   const std::string dir = cl.Positional(0);
   const Rig rig = SessionRig(dir);
   TerminalProgress progress(cl.Has("json"));
-  const OpticalSystem optics(rig);
+  std::string calibration_folder = cl.Has("calibration") ? cl.Get("calibration") : SessionCalibrationFolder(dir);
+  if (!cl.Has("calibration") && !calibration_folder.empty() &&
+      !std::filesystem::exists(calibration_folder + "/calibration.json")) {
+    std::fprintf(stderr,
+                 "zbrdf process: the session's calibration %s is gone; processing with the nominal "
+                 "calibration (give --calibration DIR to use another)\n",
+                 calibration_folder.c_str());
+    calibration_folder.clear();
+  }
   const RigCalibration calibration =
-      NominalCalibration(rig, LoadOrBuildRigMaps(optics, DefaultCacheDir(), progress.Callback()));
+      LoadRigCalibration(rig, calibration_folder, DefaultCacheDir(), progress.Callback());
   ProcessingOptions options;
   const std::vector<double> grid = cl.GetDoubles("grid", 2);
   options.theta_step_deg = grid[0];

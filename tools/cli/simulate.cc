@@ -37,6 +37,9 @@ int RunSimulate(const std::vector<std::string>& argv) {
       .Option("preset", "P", "fast (1/4 resolution, for tests) or full (the rig as described)", "full")
       .Option("seed", "N", "seed of the simulated noise and integration", "1")
       .Flag("no-noise", "turn the sensor's shot and read noise off")
+      .Option("calibration", "DIR", "calibration folder (zbrdf calibrate) for patterns and processing")
+      .Option("faults", "FILE", "YAML of rig fields that differ from the design as built "
+                                "(misalignment, projector gamma, ...; docs/calibration.md)")
       .Flag("resume", "continue an interrupted session in --out")
       .Option("truth-samples", "N", "samples per exitant point for the true coefficients", "4096")
       .Flag("json", "print a JSON report instead of the summary");
@@ -55,6 +58,11 @@ int RunSimulate(const std::vector<std::string>& argv) {
   args.material_spec = cl.Get("material");
   args.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
   args.noise = !cl.Has("no-noise");
+  if (cl.Has("calibration")) args.calibration_folder = cl.Get("calibration");
+  if (cl.Has("faults")) {
+    args.faults_name = cl.Get("faults");
+    args.faults_yaml = ReadTextFile(args.faults_name, "faults file");
+  }
   CaptureJobOptions& options = args.job;
   options.out_dir = cl.Get("out");
   options.resume = cl.Has("resume");
