@@ -4,6 +4,7 @@
 // virtual rig can report the wall time a real capture would take without sleeping.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 
 namespace zbrdf {
@@ -22,14 +23,17 @@ class SteadyClock final : public Clock {
   void SleepUs(int64_t duration_us) override;
 };
 
-// A clock that only advances when told to; SleepUs advances it without sleeping.
+// A clock that only advances when told to; SleepUs advances it without sleeping. Safe to share
+// between threads (a virtual camera behind a GigE Vision fake advances it on the fake's thread).
 class ModelClock final : public Clock {
  public:
-  int64_t NowUs() const override { return now_us_; }
-  void SleepUs(int64_t duration_us) override { now_us_ += duration_us; }
+  int64_t NowUs() const override { return now_us_.load(std::memory_order_relaxed); }
+  void SleepUs(int64_t duration_us) override {
+    now_us_.fetch_add(duration_us, std::memory_order_relaxed);
+  }
 
  private:
-  int64_t now_us_ = 0;
+  std::atomic<int64_t> now_us_{0};
 };
 
 }  // namespace zbrdf

@@ -57,8 +57,7 @@ const std::vector<ModelInfo>& Models() {
       {"merl", {}, nullptr, "merl:NAME  bundled measured material (network), names below"},
       {"file", {}, nullptr, "file:PATH.binary  MERL table;  file:PATH.json  network file"},
       {"target", {}, nullptr,
-       "target:white | target:graycard | target:mirror  calibration targets: 95% white, 18% "
-       "gray card (Lambertian), front-surface mirror (R 0.92)"},
+       "target:white|graycard|mirror  calibration targets: 95% white, 18% gray, mirror R 0.92"},
   };
   return models;
 }

@@ -1,6 +1,8 @@
 #include "tools/virtual_capture.h"
 
 #include <chrono>
+#include <cmath>
+#include <mutex>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,8 +13,114 @@
 #include "basis/error.h"
 #include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
+#include "drivers/aravis_camera.h"
+#include "drivers/fake_gige_camera.h"
 
 namespace zbrdf {
+namespace {
+
+// The GenICam pixel format a camera with this sensor would stream, among those the fake offers.
+std::string GigEPixelFormat(PixelLayout layout, int bit_depth) {
+  if (layout == PixelLayout::kMono && bit_depth == 12) return "Mono12";
+  if (layout == PixelLayout::kMono && bit_depth == 16) return "Mono16";
+  if (layout == PixelLayout::kBayerRGGB && bit_depth == 12) return "BayerRG12";
+  if (layout == PixelLayout::kBayerRGGB && bit_depth == 16) return "BayerRG16";
+  if (layout == PixelLayout::kBayerGBRG && bit_depth == 16) return "BayerGB16";
+  throw InputError("the GigE Vision fake camera offers no pixel format for a " +
+                   PixelLayoutName(layout) + " " + std::to_string(bit_depth) +
+                   "-bit sensor; use mono or bayer-rggb with 12 or 16 bits, or capture without "
+                   "--gige-fake");
+}
+
+// The virtual camera behind an Aravis fake GigE Vision camera on 127.0.0.1: the session talks to
+// the AravisCamera driver; the fake fills each triggered frame from the virtual camera, with the
+// plan's frame index forwarded so noise realizations match the direct link. A frame the driver
+// drops for missing packets is filled again with the same index, so it comes out identical.
+class GigEFakeLink {
+ public:
+  GigEFakeLink(VirtualRig& rig, const GigEFakeOptions& options) : rig_(rig), options_(options) {
+    const CameraInfo info = rig.camera().Info();
+    FakeGigECameraOptions fake_options;
+    fake_options.serial = "ZBRDF-VIRTUAL";
+    fake_ = std::make_unique<FakeGigECamera>(fake_options);
+    fake_->SetLostPacketRatio(options.lost_packet_ratio);
+    fake_->SetFrameSource([this](const FakeFrameRequest& request, std::vector<uint16_t>* samples) {
+      Fill(request, samples);
+    });
+    AravisCameraOptions camera;
+    camera.ip = FakeGigECamera::kAddress;
+    camera.pixel_format = GigEPixelFormat(info.layout, info.bit_depth);
+    camera.region_width = info.width;
+    camera.region_height = info.height;
+    camera.exposure_min_us = info.min_exposure_us;
+    camera.exposure_max_us = info.max_exposure_us;
+    camera.retries = 5;
+    driver_ = std::make_unique<AravisCamera>(camera, &rig.clock());
+    forwarding_ = std::make_unique<Forwarding>(*this);
+  }
+
+  Camera& camera() { return *forwarding_; }
+  uint64_t incomplete_frames() const { return driver_->Stats().incomplete_frames; }
+
+ private:
+  // What the session sees: the driver, plus the plan's frame index for the fake's fills.
+  class Forwarding final : public Camera {
+   public:
+    explicit Forwarding(GigEFakeLink& link) : link_(link) {}
+    CameraInfo Info() const override { return link_.driver_->Info(); }
+    // The virtual sensor quantizes exposure to 1 us; ask the camera for exactly that.
+    double SetExposure(double exposure_us) override {
+      return link_.driver_->SetExposure(std::round(exposure_us));
+    }
+    void SetTriggerMode(TriggerMode mode) override { link_.driver_->SetTriggerMode(mode); }
+    void SetNextFrameIndex(uint64_t index) override {
+      std::lock_guard<std::mutex> lock(link_.mutex_);
+      link_.next_index_ = index;
+    }
+    Frame Grab(std::chrono::milliseconds timeout) override {
+      if (link_.options_.stop_after_frames > 0 && link_.grabbed_ >= link_.options_.stop_after_frames) {
+        link_.fake_->Stop();  // as if the camera lost power; the driver notices and says so
+      }
+      Frame frame = link_.driver_->Grab(timeout);
+      std::lock_guard<std::mutex> lock(link_.mutex_);
+      ++link_.next_index_;
+      ++link_.grabbed_;
+      return frame;
+    }
+
+   private:
+    GigEFakeLink& link_;
+  };
+
+  // On the fake's thread, while the session waits in Grab.
+  void Fill(const FakeFrameRequest& request, std::vector<uint16_t>* samples) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Camera& source = rig_.camera();
+    source.SetExposure(request.exposure_us);
+    source.SetNextFrameIndex(next_index_);
+    Frame frame = source.Grab(std::chrono::milliseconds(1000));
+    if (frame.width != request.width || frame.height != request.height ||
+        frame.bit_depth != request.bit_depth) {
+      throw DeviceError("the fake camera streams " + std::to_string(request.width) + "x" +
+                        std::to_string(request.height) + " " + request.pixel_format +
+                        ", the virtual sensor makes " + std::to_string(frame.width) + "x" +
+                        std::to_string(frame.height) + " at " + std::to_string(frame.bit_depth) +
+                        " bits");
+    }
+    *samples = std::move(frame.data);
+  }
+
+  VirtualRig& rig_;
+  GigEFakeOptions options_;
+  std::mutex mutex_;
+  uint64_t next_index_ = 0;
+  int grabbed_ = 0;
+  std::unique_ptr<FakeGigECamera> fake_;
+  std::unique_ptr<AravisCamera> driver_;
+  std::unique_ptr<Forwarding> forwarding_;
+};
+
+}  // namespace
 
 VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
   const auto start = std::chrono::steady_clock::now();
@@ -33,6 +141,7 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     args.noise = s.value("noise", args.noise);
     args.faults_yaml = s.value("faults", std::string());
     args.faults_name = "session faults";
+    // The link is how frames travel, not what they are: a session may resume over either.
     if (args.calibration_folder.empty()) args.calibration_folder = s.value("calibration_folder", std::string());
   }
   if (args.material_spec.empty()) throw InputError("no --material given for the virtual rig");
@@ -61,12 +170,19 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
                             {"noise", args.noise},
                             {"kind", "simulated"}};
   if (!args.faults_yaml.empty()) args.job.session_extra["faults"] = args.faults_yaml;
+  std::unique_ptr<GigEFakeLink> gige;
+  Camera* camera = &rig.camera();
+  if (args.camera_link == CameraLink::kGigEFake) {
+    gige = std::make_unique<GigEFakeLink>(rig, args.gige);
+    camera = &gige->camera();
+    args.job.session_extra["camera_link"] = "gige-fake";
+  }
   if (!args.calibration_folder.empty()) {
     args.job.session_extra["calibration_folder"] =
         std::filesystem::absolute(args.calibration_folder).lexically_normal().string();
   }
-  out.result = RunCaptureJob(args.rig, calibration, rig.camera(), rig.projector(), rig.clock(),
-                             args.job);
+  out.result = RunCaptureJob(args.rig, calibration, *camera, rig.projector(), rig.clock(), args.job);
+  if (gige) out.incomplete_frames = gige->incomplete_frames();
   out.device_time_s = rig.clock().NowUs() * 1e-6;
   return out;
 }

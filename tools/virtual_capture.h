@@ -10,6 +10,24 @@
 
 namespace zbrdf {
 
+// How the virtual camera's frames reach the capture session.
+enum class CameraLink {
+  kDirect,    // the session grabs from the virtual camera
+  // Through the real GigE Vision stack: the virtual camera's frames are served by an Aravis fake
+  // camera on 127.0.0.1 (drivers/fake_gige_camera.h) and grabbed by the AravisCamera driver, in
+  // the sensor's pixel format (BayerRG12 for the thesis rig), with software triggers. Frames are
+  // keyed on the plan's frame index as on the direct link, so both sessions hold the same frames.
+  // Needs 127.0.0.1:3956 free (one fake at a time).
+  kGigEFake,
+};
+
+struct GigEFakeOptions {
+  double lost_packet_ratio = 0;  // probability that the fake drops each GVSP packet
+  // > 0: the fake stops answering (as a camera losing power) once this many frames reached the
+  // session in this run; the capture then fails with the driver's DeviceError (tests of resume).
+  int stop_after_frames = 0;
+};
+
 struct VirtualCaptureArgs {
   Rig rig;                  // the design, preset applied
   std::string preset_name;  // for session.json
@@ -20,6 +38,8 @@ struct VirtualCaptureArgs {
   std::string calibration_folder;
   uint64_t seed = 1;
   bool noise = true;
+  CameraLink camera_link = CameraLink::kDirect;
+  GigEFakeOptions gige;
   CaptureJobOptions job;
 };
 
@@ -29,6 +49,8 @@ struct VirtualCaptureOutcome {
   double device_time_s = 0;   // on the virtual rig's clock: what the real rig would take
   double setup_seconds = 0;   // maps and transport
   size_t transport_entries = 0;
+  // CameraLink::kGigEFake: frames the driver dropped for missing packets and captured again.
+  uint64_t incomplete_frames = 0;
 };
 
 // Builds the virtual rig (as built) for the material and runs the capture job on it with the

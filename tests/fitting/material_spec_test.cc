@@ -141,7 +141,7 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
 
 TEST(MaterialSpecTest, HelpListsModelsAndBundledMaterials) {
   const std::vector<std::string> models = MaterialModelNames();
-  EXPECT_EQ(models.size(), 9u);
+  EXPECT_EQ(models.size(), 10u);
   const std::string help = MaterialSpecHelp();
   for (const std::string& model : models) {
     EXPECT_NE(help.find("  " + model + ":"), std::string::npos) << model;

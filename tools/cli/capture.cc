@@ -37,6 +37,9 @@ int RunCapture(const std::vector<std::string>& argv) {
       .Option("seed", "N", "virtual rig: seed of noise and integration", "1")
       .Option("calibration", "DIR", "calibration folder (zbrdf calibrate) for patterns and processing")
       .Option("faults", "FILE", "virtual rig: YAML of rig fields that differ from the design as built")
+      .Flag("gige-fake", "virtual rig: grab its frames through an Aravis GigE Vision fake camera on "
+                         "127.0.0.1 and the real camera driver (needs port 3956 free)")
+      .Option("lost-packets", "R", "with --gige-fake: probability the fake drops each packet", "0")
       .Flag("resume", "continue the interrupted session in --out")
       .Flag("json", "print a JSON report instead of the summary");
   AddPlanFlags(cl);
@@ -44,6 +47,8 @@ int RunCapture(const std::vector<std::string>& argv) {
       "Examples:\n"
       "  zbrdf capture --rig simulate/rigs/thesis.yaml --hardware lab.yaml --out sessions/felt\n"
       "  zbrdf capture --rig simulate/rigs/thesis.yaml --material merl:red-fabric --out /tmp/s\n"
+      "  zbrdf capture --rig simulate/rigs/thesis.yaml --material merl:red-fabric --out /tmp/g \\\n"
+      "      --preset fast --gige-fake --lost-packets 0.01\n"
       "  zbrdf capture --rig simulate/rigs/thesis.yaml --hardware lab.yaml --out sessions/felt --resume");
   if (!cl.Parse(argv)) return 0;
   if (cl.Has("hardware") == cl.Has("material") && !cl.Has("resume")) {
@@ -66,6 +71,11 @@ int RunCapture(const std::vector<std::string>& argv) {
     auto camera = OpenRigCamera(hardware, &clock);
     auto projector = OpenRigProjector(hardware);
     if (cl.Has("faults")) throw InputError("--faults simulates a rig; it does not apply to --hardware");
+    if (cl.Has("gige-fake")) {
+      throw InputError("--gige-fake serves the virtual rig's frames; with --hardware the camera of "
+                       "the hardware rig file is used (for a fake camera there, see "
+                       "docs/examples/fake-rig.yaml)");
+    }
     const std::string calibration_folder = cl.Has("calibration") ? cl.Get("calibration") : "";
     const RigCalibration calibration =
         LoadRigCalibration(rig, calibration_folder, DefaultCacheDir(), job.progress);
@@ -90,11 +100,20 @@ int RunCapture(const std::vector<std::string>& argv) {
       args.faults_name = cl.Get("faults");
       args.faults_yaml = ReadTextFile(args.faults_name, "faults file");
     }
+    if (cl.Has("gige-fake")) args.camera_link = CameraLink::kGigEFake;
+    args.gige.lost_packet_ratio = cl.GetDouble("lost-packets", 0, 0.5);
+    if (args.gige.lost_packet_ratio > 0 && !cl.Has("gige-fake")) {
+      throw InputError("--lost-packets applies to --gige-fake only");
+    }
     args.job = job;
     const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
     result = outcome.result;
     report = CaptureJobReport(result, outcome.device_time_s);
     report["material"] = outcome.material->Spec();
+    if (args.camera_link == CameraLink::kGigEFake) {
+      report["camera_link"] = "gige-fake";
+      report["incomplete_frames_recaptured"] = outcome.incomplete_frames;
+    }
   }
   if (!result.complete) {
     std::fprintf(stderr,

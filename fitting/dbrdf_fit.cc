@@ -1,0 +1,594 @@
+#include "fitting/dbrdf_fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+#include <ceres/ceres.h>
+
+#include "basis/error.h"
+#include "basis/spherical_harmonics.h"
+#include "basis/zonal_basis.h"
+
+namespace zbrdf {
+namespace {
+
+using WallClock = std::chrono::steady_clock;
+double Since(WallClock::time_point t) { return std::chrono::duration<double>(WallClock::now() - t).count(); }
+
+std::mutex& ProjectionMutex() {
+  static std::mutex m;
+  return m;
+}
+
+// Weights w_j with integral p(h) cos(theta_h) dw_h = sum_j w_j p_j for a table of the given size
+// (HalfVectorTable::NormalizationIntegral is linear in p).
+Eigen::VectorXd NormalizationWeights(int theta_samples, int phi_samples) {
+  const int size = theta_samples * phi_samples;
+  Eigen::VectorXd w(size);
+  HalfVectorTable unit;
+  unit.theta_samples = theta_samples;
+  unit.phi_samples = phi_samples;
+  unit.p.assign(size, 0.0);
+  for (int i = 0; i < size; ++i) {
+    unit.p[i] = 1.0;
+    w[i] = unit.NormalizationIntegral();
+    unit.p[i] = 0.0;
+  }
+  return w;
+}
+
+// Knot positions (table node indices) up to last_node: spacing max(2, min(6, theta / 4)) deg,
+// about what order-8 to 10 data resolve near the specular peak.
+std::vector<int> KnotNodes(int theta_samples, int last_node) {
+  const double step_deg = 90.0 / (theta_samples - 1);
+  std::vector<int> knots{0};
+  while (knots.back() < last_node) {
+    const double theta = knots.back() * step_deg;
+    const double spacing = std::max(2.0, std::min(6.0, theta / 4.0));
+    int next = knots.back() + std::max(1, static_cast<int>(std::lround(spacing / step_deg)));
+    next = std::min(next, last_node);
+    if (last_node - next > 0 && (last_node - next) * step_deg < 0.5 * spacing) next = last_node;
+    knots.push_back(next);
+  }
+  return knots;
+}
+
+// The linear map from free parameters q to table values p (table nodes x parameters). p follows
+// a prior shape s(theta) (the fitted GGX lobe) modulated by a ratio interpolated linearly between
+// knots: p(theta) = s(theta) ((1 - t) q_k / s_k + t q_k+1 / s_k+1), so the fine structure near
+// the peak, which the data do not resolve, keeps the physical lobe's shape, while the knots move
+// its coarse course. Beyond the last knot the ratio is held (the GGX tail). The theta = 0 knot is
+// shared by every phi (p is continuous at the pole).
+Eigen::MatrixXd TableMap(int theta_samples, int phi_samples, const std::vector<int>& knots,
+                         double tail_alpha) {
+  const double step = 0.5 * M_PI / (theta_samples - 1);
+  const int nk = static_cast<int>(knots.size());
+  const int params = 1 + (nk - 1) * phi_samples;
+  auto param = [&](int knot, int k) { return knot == 0 ? 0 : 1 + (knot - 1) * phi_samples + k; };
+  auto shape = [&](int node) { return std::max(GgxD(tail_alpha, node * step), 1e-300); };
+  Eigen::MatrixXd map = Eigen::MatrixXd::Zero(theta_samples * phi_samples, params);
+  const int last = knots.back();
+  for (int j = 0; j < theta_samples; ++j) {
+    for (int k = 0; k < phi_samples; ++k) {
+      const int row = j * phi_samples + k;
+      if (j >= last) {
+        map(row, param(nk - 1, k)) = GgxD(tail_alpha, j * step) / shape(last);
+        continue;
+      }
+      int s = 0;
+      while (knots[s + 1] <= j) ++s;
+      const double t = static_cast<double>(j - knots[s]) / (knots[s + 1] - knots[s]);
+      const double here = GgxD(tail_alpha, j * step);
+      map(row, param(s, k)) += (1.0 - t) * here / shape(knots[s]);
+      if (t > 0) map(row, param(s + 1, k)) += t * here / shape(knots[s + 1]);
+    }
+  }
+  return map;
+}
+
+// The fit's linear pieces in parameter space.
+struct Problem {
+  FitWeights w;
+  Eigen::MatrixXd nq, rq;    // coefficients x parameters: normal and grazing parts
+  Eigen::VectorXd diffuse;   // coefficients
+  Eigen::RowVectorXd norm;   // normalization integral per parameter
+  double norm_weight = 1;
+};
+
+class DBrdfCost final : public ceres::CostFunction {
+ public:
+  explicit DBrdfCost(const Problem& p) : p_(p) {
+    set_num_residuals(3 * static_cast<int>(p.diffuse.size()) + 1);
+    mutable_parameter_block_sizes()->assign({static_cast<int>(p.nq.cols()), 1, 3, 3});
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int nq = static_cast<int>(p_.nq.cols());
+    const Eigen::Index n = p_.diffuse.size();
+    const Eigen::Map<const Eigen::VectorXd> q(parameters[0], nq);
+    const double f0 = parameters[1][0];
+    const double* c = parameters[2];
+    const double* kd = parameters[3];
+    const Eigen::VectorXd np = p_.nq * q, rp = p_.rq * q;
+    for (int ch = 0; ch < 3; ++ch) {
+      const Eigen::VectorXd& w = p_.w.weight[ch];
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double model = c[ch] * (f0 * np[i] + rp[i]) + kd[ch] * p_.diffuse[i];
+        residuals[ch * n + i] = w[i] * (model - p_.w.y[ch][i]);
+      }
+    }
+    residuals[3 * n] = p_.norm_weight * (p_.norm.dot(q) - 1.0);
+    if (!jacobians) return true;
+    const int rows = static_cast<int>(3 * n + 1);
+    if (jacobians[0]) {
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> j(
+          jacobians[0], rows, nq);
+      for (int ch = 0; ch < 3; ++ch) {
+        j.middleRows(ch * n, n) =
+            p_.w.weight[ch].asDiagonal() * (c[ch] * (f0 * p_.nq + p_.rq));
+      }
+      j.row(3 * n) = p_.norm_weight * p_.norm;
+    }
+    if (jacobians[1]) {
+      for (int ch = 0; ch < 3; ++ch) {
+        for (Eigen::Index i = 0; i < n; ++i) jacobians[1][ch * n + i] = p_.w.weight[ch][i] * c[ch] * np[i];
+      }
+      jacobians[1][3 * n] = 0;
+    }
+    for (int block = 2; block <= 3; ++block) {
+      if (!jacobians[block]) continue;
+      std::fill(jacobians[block], jacobians[block] + rows * 3, 0.0);
+      for (int ch = 0; ch < 3; ++ch) {
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const double d = block == 2 ? f0 * np[i] + rp[i] : p_.diffuse[i];
+          jacobians[block][(ch * n + i) * 3 + ch] = p_.w.weight[ch][i] * d;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Problem& p_;
+};
+
+struct Solution {
+  Eigen::VectorXd q;
+  double f0 = 0.5;
+  Rgb c, kd;
+};
+
+std::array<Eigen::VectorXd, 3> Predict(const Problem& p, const Solution& s) {
+  const Eigen::VectorXd np = p.nq * s.q, rp = p.rq * s.q;
+  std::array<Eigen::VectorXd, 3> out;
+  for (int ch = 0; ch < 3; ++ch) out[ch] = s.c[ch] * (s.f0 * np + rp) + s.kd[ch] * p.diffuse;
+  return out;
+}
+
+double Chi2(const Problem& p, const Solution& s) {
+  const auto m = Predict(p, s);
+  double chi2 = 0;
+  for (int ch = 0; ch < 3; ++ch) chi2 += (p.w.weight[ch].cwiseProduct(m[ch] - p.w.y[ch])).squaredNorm();
+  return chi2;
+}
+
+// Best (c F0, c, kd) per channel for fixed p columns by NNLS; F0 shared: the channel-weighted
+// ratio. Returns chi2.
+double SolveLinear(const FitWeights& w, const Eigen::VectorXd& np, const Eigen::VectorXd& rp,
+                   const Eigen::VectorXd& diffuse, Solution* s) {
+  double sum_a1 = 0, sum_a2 = 0;
+  Eigen::Vector3d x[3];
+  for (int ch = 0; ch < 3; ++ch) {
+    Eigen::MatrixXd a(np.size(), 3);
+    a.col(0) = w.weight[ch].cwiseProduct(np);
+    a.col(1) = w.weight[ch].cwiseProduct(rp);
+    a.col(2) = w.weight[ch].cwiseProduct(diffuse);
+    x[ch] = NonNegativeLeastSquares(a, w.weight[ch].cwiseProduct(w.y[ch]));
+    sum_a1 += x[ch][0];
+    sum_a2 += x[ch][1];
+  }
+  // c F0 = a1, c = a2 would need a1 <= a2; keep a1 (the part the zone measures well) and set
+  // F0 from the channel sums.
+  s->f0 = sum_a2 > 0 ? sum_a1 / sum_a2 : 1.0;
+  for (int ch = 0; ch < 3; ++ch) {
+    s->c[ch] = s->f0 > 0 ? x[ch][0] / s->f0 : 0.0;
+    s->kd[ch] = x[ch][2];  // the diffuse column is the projection of cos / pi: albedo units
+  }
+  double chi2 = 0;
+  for (int ch = 0; ch < 3; ++ch) {
+    const Eigen::VectorXd m = s->c[ch] * (s->f0 * np + rp) + s->kd[ch] * diffuse;
+    chi2 += w.weight[ch].cwiseProduct(m - w.y[ch]).squaredNorm();
+  }
+  return chi2;
+}
+
+// The band-limited retro-reflection slice f^(w, w) / cos(theta) at direction w, per channel.
+Rgb RetroSlice(const ZonalTensor& data, const ZonalBasis& zb, const Vec3& w) {
+  std::vector<double> z(zb.size());
+  zb.Eval(w, z.data());
+  const Eigen::Map<const Eigen::VectorXd> zv(z.data(), zb.size());
+  Rgb r;
+  for (int ch = 0; ch < 3; ++ch) r[ch] = zv.dot(data.z[ch] * zv) / w.z;
+  return r;
+}
+
+}  // namespace
+
+nlohmann::json DBrdfFitResult::ToJson() const {
+  auto rgb = [](const Rgb& c) { return nlohmann::json::array({c.r, c.g, c.b}); };
+  auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  nlohmann::json j;
+  j["c"] = rgb(params.c);
+  j["F0"] = params.f0;
+  j["kd"] = rgb(params.kd);
+  j["theta_samples"] = params.p_h.theta_samples;
+  j["phi_samples"] = params.p_h.phi_samples;
+  j["table"] = isotropic_table ? "1-D p(theta_h) (isotropic data)" : "2-D p(theta_h, phi_h) (anisotropic data)";
+  j["alpha_equivalent"] = alpha_equivalent;
+  j["tail_alpha"] = tail_alpha;
+  j["knots"] = knots;
+  j["initial"] = initial;
+  nlohmann::json u;
+  u["available"] = uncertainty.available;
+  u["F0"] = finite(uncertainty.f0);
+  u["c"] = {finite(uncertainty.c.r), finite(uncertainty.c.g), finite(uncertainty.c.b)};
+  u["kd"] = {finite(uncertainty.kd.r), finite(uncertainty.kd.g), finite(uncertainty.kd.b)};
+  j["uncertainty"] = u;
+  j["isotropy"] = {{"isotropic", isotropy.isotropic},
+                   {"anisotropic_energy_fraction", isotropy.anisotropic_energy_fraction},
+                   {"chi2_per_dof", isotropy.chi2_per_dof}};
+  return j;
+}
+
+DBrdfFitter::DBrdfFitter(const Zone& zone, int order, const DBrdfFitOptions& options)
+    : zone_(zone), order_(order), options_(options) {
+  const auto t0 = WallClock::now();
+  if (!(options.f0_min >= 0 && options.f0_min <= options.f0_max && options.f0_max <= 1)) {
+    throw InputError("D-BRDF fit: F0 bounds must satisfy 0 <= f0_min <= f0_max <= 1");
+  }
+  if (options.theta_samples < 3 || 90 % (options.theta_samples - 1) != 0 ||
+      options.anisotropic_theta_samples < 3 || 90 % (options.anisotropic_theta_samples - 1) != 0 ||
+      options.anisotropic_phi_samples < 2) {
+    throw InputError("D-BRDF fit: theta_samples - 1 must divide 90 (e.g. 91, 46, 31) and "
+                     "anisotropic_phi_samples must be >= 2");
+  }
+  PairQuadratureOptions q = options.quadrature;
+  q.theta_h_cells = 90;
+  quadrature_ = std::make_unique<PairQuadrature>(zone, order, q);
+  if (options.table != DBrdfFitOptions::Table::kAnisotropic) {
+    isotropic_ = std::make_unique<DBrdfProjection>(ProjectDBrdfTable(*quadrature_, options.theta_samples, 1));
+  }
+  precompute_seconds_ = Since(t0);
+}
+
+DBrdfFitter::~DBrdfFitter() = default;
+
+const DBrdfProjection& DBrdfFitter::Projection(bool isotropic) const {
+  std::lock_guard<std::mutex> lock(ProjectionMutex());
+  auto& slot = isotropic ? isotropic_ : anisotropic_;
+  if (!slot) {
+    const auto t0 = WallClock::now();
+    slot = std::make_unique<DBrdfProjection>(
+        isotropic ? ProjectDBrdfTable(*quadrature_, options_.theta_samples, 1)
+                  : ProjectDBrdfTable(*quadrature_, options_.anisotropic_theta_samples,
+                                      options_.anisotropic_phi_samples));
+    precompute_seconds_ += Since(t0);
+  }
+  return *slot;
+}
+
+DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
+  const auto t_start = WallClock::now();
+  if (data.order != order_ || !(data.zone() == zone_)) {
+    throw InputError("D-BRDF fit: the data (zone " + data.zone().ToString() + ", order " +
+                     std::to_string(data.order) + ") do not match the fitter's (zone " +
+                     zone_.ToString() + ", order " + std::to_string(order_) + ")");
+  }
+  const int n = data.size();
+  for (int ch = 0; ch < 3; ++ch) {
+    if (data.z[ch].rows() != n || data.z[ch].cols() != n || data.variance[ch].rows() != n ||
+        data.variance[ch].cols() != n) {
+      throw InputError("D-BRDF fit: the data's tensors are not " + std::to_string(n) + " x " +
+                       std::to_string(n));
+    }
+  }
+  DBrdfFitResult result;
+  result.isotropy = AnalyzeIsotropy(data);
+  bool isotropic = result.isotropy.isotropic;
+  if (options_.table == DBrdfFitOptions::Table::kIsotropic) isotropic = true;
+  if (options_.table == DBrdfFitOptions::Table::kAnisotropic) isotropic = false;
+  result.isotropic_table = isotropic;
+  const int theta_samples = isotropic ? options_.theta_samples : options_.anisotropic_theta_samples;
+  const int phi_samples = isotropic ? 1 : options_.anisotropic_phi_samples;
+  const double table_step = 0.5 * M_PI / (theta_samples - 1);
+
+  // The data in the layout of the projection.
+  std::array<Eigen::VectorXd, 3> y, variance;
+  if (isotropic) {
+    const IsotropicData iso = IsotropicCoefficients(data);
+    y = iso.z;
+    variance = iso.variance;
+  } else {
+    for (int ch = 0; ch < 3; ++ch) {
+      y[ch].resize(static_cast<Eigen::Index>(n) * n);
+      variance[ch].resize(static_cast<Eigen::Index>(n) * n);
+      for (int k = 0; k < n; ++k) {
+        for (int j = 0; j < n; ++j) {
+          y[ch][static_cast<Eigen::Index>(k) * n + j] = data.z[ch](k, j);
+          variance[ch][static_cast<Eigen::Index>(k) * n + j] = data.variance[ch](k, j);
+        }
+      }
+    }
+  }
+  Problem problem;
+  problem.w = MakeFitWeights(y, variance);
+  result.conditions = problem.w.conditions;
+  // A black model with a GGX-shaped p: what degenerate data give.
+  auto black = [&](double alpha) {
+    std::vector<double> p(static_cast<size_t>(theta_samples) * phi_samples);
+    for (int j = 0; j < theta_samples; ++j) {
+      for (int k = 0; k < phi_samples; ++k) p[j * phi_samples + k] = GgxD(alpha, j * table_step);
+    }
+    DBrdfParams params;
+    params.p_h.theta_samples = theta_samples;
+    params.p_h.phi_samples = phi_samples;
+    params.p_h.p = std::move(p);
+    params.p_h.Normalize();
+    params.c = Rgb(0.0);
+    params.f0 = 0.04;
+    params.kd = Rgb(0.0);
+    return params;
+  };
+  if (!problem.w.any_signal) {
+    result.params = black(0.3);
+    result.tail_alpha = 0.3;
+    result.total_seconds = Since(t_start);
+    return result;
+  }
+  const DBrdfProjection& projection = Projection(isotropic);
+  const auto t_solve = WallClock::now();
+  const Eigen::VectorXd norm_table = NormalizationWeights(theta_samples, phi_samples);
+
+  // 2. GGX scan: p = D_alpha at every node (the same for every phi), normalized.
+  auto ggx_table = [&](double alpha) {
+    Eigen::VectorXd p(theta_samples * phi_samples);
+    for (int j = 0; j < theta_samples; ++j) p.segment(j * phi_samples, phi_samples).setConstant(GgxD(alpha, j * table_step));
+    return Eigen::VectorXd(p / norm_table.dot(p));
+  };
+  Solution linear;
+  auto scan = [&](double log_alpha) {
+    const Eigen::VectorXd p = ggx_table(std::exp(log_alpha));
+    Solution s;
+    return SolveLinear(problem.w, projection.normal * p, projection.grazing * p, projection.diffuse, &s);
+  };
+  const double log_alpha = MinimizeScalar(scan, std::log(0.01), std::log(1.5), 28, 30);
+  result.tail_alpha = std::exp(log_alpha);
+  const Eigen::VectorXd p_ggx = ggx_table(result.tail_alpha);
+  SolveLinear(problem.w, projection.normal * p_ggx, projection.grazing * p_ggx, projection.diffuse, &linear);
+
+  // 3. Retro-reflection extraction inside the zone, blended with the GGX lobe outside.
+  const ZonalBasis zb(data.zone(), data.order);
+  const double theta_min = data.theta_min_rad, theta_max = data.theta_max_rad;
+  const double blend = 5.0 * M_PI / 180.0;
+  Eigen::VectorXd p_init = p_ggx;
+  const double a1_sum2 = linear.c.r * linear.c.r + linear.c.g * linear.c.g + linear.c.b * linear.c.b;
+  if (a1_sum2 > 0 && linear.f0 > 0) {
+    for (int j = 0; j < theta_samples; ++j) {
+      const double theta = j * table_step;
+      if (theta < theta_min || theta > theta_max) continue;
+      const double ramp = std::min({1.0, (theta - theta_min) / blend, (theta_max - theta) / blend});
+      for (int k = 0; k < phi_samples; ++k) {
+        const Vec3 w = SphericalDirection(theta, k * 2.0 * M_PI / phi_samples);
+        const Rgb r = RetroSlice(data, zb, w);
+        const double geometry = 2.0 * w.z - w.z * w.z;
+        double num = 0;
+        for (int ch = 0; ch < 3; ++ch) {
+          const double a1 = linear.c[ch] * linear.f0;
+          num += a1 * (r[ch] - linear.kd[ch] / M_PI) * geometry;
+        }
+        const double p_retro = std::max(0.0, num / (a1_sum2 * linear.f0 * linear.f0));
+        const int row = j * phi_samples + k;
+        p_init[row] = ramp * p_retro + (1.0 - ramp) * p_ggx[row];
+      }
+    }
+  }
+
+  // 4. Knots and the map to the table.
+  const int last_node = std::min(theta_samples - 1, static_cast<int>(std::ceil(theta_max / table_step - 1e-9)));
+  const std::vector<int> knots = KnotNodes(theta_samples, last_node);
+  const Eigen::MatrixXd map = TableMap(theta_samples, phi_samples, knots, result.tail_alpha);
+  result.knots = static_cast<int>(map.cols());
+  problem.nq = projection.normal * map;
+  problem.rq = projection.grazing * map;
+  problem.diffuse = projection.diffuse;  // kd in albedo units
+  problem.norm = norm_table.transpose() * map;
+  // The normalization holds the c-p gauge: stiff, so that it acts as a constraint (and the
+  // covariance of c is that of the data, not of the gauge).
+  problem.norm_weight = 1e4 * std::sqrt(static_cast<double>(problem.w.used));
+
+  // Knot values from a table: least squares through the map (exact at the knots).
+  auto knots_of = [&](const Eigen::VectorXd& table) {
+    Eigen::VectorXd q = map.colPivHouseholderQr().solve(table);
+    return Eigen::VectorXd(q.cwiseMax(0.0));
+  };
+  Solution from_retro = linear, from_ggx = linear;
+  from_retro.q = knots_of(p_init);
+  from_ggx.q = knots_of(p_ggx);
+  const bool retro_better = Chi2(problem, from_retro) < Chi2(problem, from_ggx);
+  Solution s = retro_better ? from_retro : from_ggx;
+  result.initial = retro_better ? "retro+ggx" : "ggx";
+  // Scale q so that p is normalized (the gauge), c compensating.
+  const double scale = problem.norm.dot(s.q);
+  if (scale > 0) {
+    s.q /= scale;
+    s.c = s.c * scale;
+  }
+  // Start inside the bounds (strictly, unless F0 is fixed).
+  const double f0_lo = options_.f0_min, f0_hi = options_.f0_max;
+  s.f0 = f0_lo == f0_hi ? f0_lo
+                        : std::clamp(s.f0, f0_lo + 0.01 * (f0_hi - f0_lo), f0_hi - 0.01 * (f0_hi - f0_lo));
+
+  double f0 = s.f0;
+  double c[3] = {s.c.r, s.c.g, s.c.b}, kd[3] = {s.kd.r, s.kd.g, s.kd.b};
+  ceres::Problem ceres_problem;
+  auto* cost = new DBrdfCost(problem);
+  ceres_problem.AddResidualBlock(cost, nullptr, s.q.data(), &f0, c, kd);
+  for (int i = 0; i < s.q.size(); ++i) ceres_problem.SetParameterLowerBound(s.q.data(), i, 0.0);
+  if (f0_lo == f0_hi) {
+    ceres_problem.SetParameterBlockConstant(&f0);
+  } else {
+    ceres_problem.SetParameterLowerBound(&f0, 0, f0_lo);
+    ceres_problem.SetParameterUpperBound(&f0, 0, f0_hi);
+  }
+  for (int ch = 0; ch < 3; ++ch) {
+    ceres_problem.SetParameterLowerBound(c, ch, 0.0);
+    ceres_problem.SetParameterLowerBound(kd, ch, 0.0);
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = options_.max_iterations;
+  solver.function_tolerance = 1e-10;
+  solver.gradient_tolerance = 1e-12;
+  solver.parameter_tolerance = 1e-10;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &ceres_problem, &summary);
+
+  Solution fitted;
+  fitted.q = s.q;
+  fitted.f0 = f0;
+  fitted.c = {c[0], c[1], c[2]};
+  fitted.kd = {kd[0], kd[1], kd[2]};
+  const auto prediction = Predict(problem, fitted);
+  result.statistics = ComputeFitStatistics(problem.w, prediction, static_cast<int>(s.q.size()) + 7);
+  result.statistics.iterations = static_cast<int>(summary.iterations.size());
+  result.statistics.termination = summary.message;
+
+  // Uncertainties.
+  if (options_.covariance) {
+    ceres::Covariance::Options cov_options;
+    cov_options.algorithm_type = ceres::DENSE_SVD;
+    cov_options.null_space_rank = -1;
+    cov_options.min_reciprocal_condition_number = 1e-14;
+    ceres::Covariance covariance(cov_options);
+    std::vector<std::pair<const double*, const double*>> blocks = {{&f0, &f0}, {c, c}, {kd, kd}};
+    if (covariance.Compute(blocks, &ceres_problem)) {
+      const double inflate = std::max(1.0, result.statistics.chi2_per_dof);
+      double v_f0 = 0, v_c[9], v_kd[9];
+      if (covariance.GetCovarianceBlock(&f0, &f0, &v_f0) && covariance.GetCovarianceBlock(c, c, v_c) &&
+          covariance.GetCovarianceBlock(kd, kd, v_kd)) {
+        result.uncertainty.available = true;
+        result.uncertainty.f0 = std::sqrt(std::max(0.0, v_f0 * inflate));
+        for (int ch = 0; ch < 3; ++ch) {
+          result.uncertainty.c[ch] = std::sqrt(std::max(0.0, v_c[ch * 4] * inflate));
+          result.uncertainty.kd[ch] = std::sqrt(std::max(0.0, v_kd[ch * 4] * inflate));
+        }
+      }
+    }
+    if (!result.uncertainty.available) {
+      result.conditions.push_back("parameter uncertainties unavailable: the problem is rank "
+                                  "deficient at the solution (a parameter the data do not determine)");
+    }
+  }
+
+  // The table, normalized, the scale folded into c.
+  Eigen::VectorXd table = (map * fitted.q).cwiseMax(0.0);
+  double integral = norm_table.dot(table);
+  DBrdfParams params;
+  params.p_h.theta_samples = theta_samples;
+  params.p_h.phi_samples = phi_samples;
+  const bool specular = integral > 0 && (fitted.c.r + fitted.c.g + fitted.c.b) > 0;
+  if (specular) {
+    params.p_h.p.assign(table.data(), table.data() + table.size());
+    params.p_h.Normalize();
+    params.c = fitted.c * integral;
+  } else {
+    const DBrdfParams b = black(result.tail_alpha);
+    params.p_h = b.p_h;
+    params.c = Rgb(0.0);
+    result.conditions.push_back("no specular reflection detected: c = 0 and p(h) is the GGX prior "
+                                "(alpha " + std::to_string(result.tail_alpha) + ")");
+  }
+  params.f0 = std::clamp(fitted.f0, 0.0, 1.0);
+  params.kd = {std::max(0.0, fitted.kd.r), std::max(0.0, fitted.kd.g), std::max(0.0, fitted.kd.b)};
+  result.params = params;
+  result.fitted = true;
+
+  // Alpha-equivalent: the GGX whose retro-reflection has the shape of the fitted model's. At
+  // retro-reflection the D-BRDF is c F0 p(theta) / (2 cos - cos^2) (thesis eq. 2.15) and GGX is
+  // F0 D(theta) G2 / (4 cos^2), so a GGX lobe corresponds to p proportional to
+  // R_alpha(theta) = D(theta) G2(theta) (2 - cos theta) / (4 cos theta). alpha minimizes
+  // sum w (p - s R_alpha)^2 over the table nodes up to theta_max, the scale s solved in closed
+  // form, w = sin cos (the projected measure) + 1e-3.
+  {
+    std::vector<double> thetas, ps, ws;
+    for (int j = 0; j <= last_node; ++j) {
+      const double theta = j * table_step;
+      double mean = 0;
+      for (int k = 0; k < phi_samples; ++k) mean += params.p_h.At(j, k);
+      thetas.push_back(theta);
+      ps.push_back(mean / phi_samples);
+      ws.push_back(std::sin(theta) * std::cos(theta) + 1e-3);
+    }
+    auto retro = [](double alpha, double theta) {
+      const double c = std::cos(theta), t = std::tan(theta);
+      const double lambda = 0.5 * (std::sqrt(1.0 + alpha * alpha * t * t) - 1.0);
+      return GgxD(alpha, theta) / (1.0 + 2.0 * lambda) * (2.0 - c) / (4.0 * c);
+    };
+    auto misfit = [&](double log_alpha) {
+      const double alpha = std::exp(log_alpha);
+      double pr = 0, rr = 0;
+      for (size_t i = 0; i < thetas.size(); ++i) {
+        const double r = retro(alpha, thetas[i]);
+        pr += ws[i] * ps[i] * r;
+        rr += ws[i] * r * r;
+      }
+      const double scale = rr > 0 ? pr / rr : 0.0;
+      double e = 0;
+      for (size_t i = 0; i < thetas.size(); ++i) {
+        const double d = ps[i] - scale * retro(alpha, thetas[i]);
+        e += ws[i] * d * d;
+      }
+      return e;
+    };
+    result.alpha_equivalent = std::exp(MinimizeScalar(misfit, std::log(0.005), std::log(2.0), 40, 40));
+  }
+  if (specular && result.alpha_equivalent < 1.5 * table_step) {
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "the lobe (alpha-equivalent %.3f) is as narrow as the table's %.1f deg steps or "
+                  "narrower: p(h) holds it at the table's resolution (mirror-like sample)",
+                  result.alpha_equivalent, table_step * 180 / M_PI);
+    result.conditions.push_back(text);
+  }
+  if (result.statistics.chi2_per_dof > 25) {
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "the D-BRDF does not explain the data within their noise (chi2/dof = %.3g, "
+                  "relative residual %.2g%%)",
+                  result.statistics.chi2_per_dof, 100 * result.statistics.relative_residual);
+    result.conditions.push_back(text);
+  }
+  result.solve_seconds = Since(t_solve);
+  result.precompute_seconds = precompute_seconds_;
+  result.total_seconds = Since(t_start);
+  return result;
+}
+
+DBrdfFitResult FitDBrdf(const ZonalTensor& data, const DBrdfFitOptions& options) {
+  if (const std::string problems = data.Problems(); !problems.empty() &&
+      problems.find("not finite") == std::string::npos && problems.find("NaN") == std::string::npos) {
+    throw InputError("D-BRDF fit: " + problems);
+  }
+  const auto t0 = WallClock::now();
+  DBrdfFitter fitter(data.zone(), data.order, options);
+  DBrdfFitResult result = fitter.Fit(data);
+  result.total_seconds = Since(t0);
+  return result;
+}
+
+}  // namespace zbrdf

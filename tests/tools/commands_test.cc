@@ -1,0 +1,72 @@
+// The commands people run (export, preview, plot, compare, report), end to end through the zbrdf
+// binary on a synthetic session.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "acquisition/zonal.h"
+#include "basis/spherical_harmonics.h"
+#include "fitting/material_spec.h"
+#include "session_fixture.h"
+#include "tools/image.h"
+#include "tools_test_util.h"
+
+namespace zbrdf {
+namespace {
+
+using testing::TempDir;
+
+TEST(Commands, ExportPreviewPlotCompareReportOnASession) {
+  TempDir dir("commands");
+  const std::string s = dir.File("session");
+  std::filesystem::create_directories(s);
+  testing::WriteSessionJson(s, "merl:red-fabric");
+  testing::WriteJson(s + "/report.json", {{"wall_time_s", {{"total", 1.0}}}});
+  WriteZonalExr(s + "/zonal.exr", testing::MakeZonalData());
+  WriteDBrdfFile(s + "/fit-dbrdf.exr", testing::MakeDBrdf(), {{"test", true}});
+  auto run = [&](const std::string& args) {
+    return testing::RunZbrdf(args, dir.File("out.txt"), dir.File("err.txt"));
+  };
+  ASSERT_EQ(run("export " + s + " --format dbrdf --out " + dir.File("copy.exr")), 0)
+      << testing::ReadFile(dir.File("err.txt"));
+  EXPECT_EQ(run("export " + s + " --format sh --out " + dir.File("x.exr")), 2);  // no SH data
+  EXPECT_NE(testing::ReadFile(dir.File("err.txt")).find("zbrdf convert"), std::string::npos);
+  ASSERT_EQ(run("export " + s + " --format rgl --out " + dir.File("m.bsdf") +
+                " --rgl-theta 6 "
+                "--rgl-samples 12"),
+            0)
+      << testing::ReadFile(dir.File("err.txt"));
+  for (const char* f : {"m.bsdf", "m.spectral.bsdf", "m.mitsuba.xml", "m.pbrt"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir.File(f))) << f;
+  }
+  ASSERT_EQ(run("preview " + s + " --size 24 --spp 2 --out " + dir.File("ball.png") + " --exr " +
+                dir.File("ball.exr")),
+            0)
+      << testing::ReadFile(dir.File("err.txt"));
+  const cv::Mat ball = cv::imread(dir.File("ball.png"));
+  EXPECT_EQ(ball.rows, 24);
+  const RgbImage linear = ReadExrImage(dir.File("ball.exr"));
+  EXPECT_EQ(linear.width, 24);
+  EXPECT_EQ(run("preview lambert:0.5 --light dir:30,0 --envmap sky --out " + dir.File("x.png")), 2);
+  ASSERT_EQ(run("plot " + s + " --out " + dir.File("plots")), 0)
+      << testing::ReadFile(dir.File("err.txt"));
+  for (const char* f : {"slices.png", "slices-log.png", "band-energy.png", "plot.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir.File(std::string("plots/") + f))) << f;
+  }
+  ASSERT_EQ(run("compare merl:red-fabric " + s + " --size 24 --spp 2 --samples 4096 --out " +
+                dir.File("cmp")),
+            0)
+      << testing::ReadFile(dir.File("err.txt"));
+  const nlohmann::json metrics =
+      nlohmann::json::parse(testing::ReadFile(dir.File("cmp/metrics.json")));
+  EXPECT_GT(metrics["render"]["rmse"].get<double>(), 0.0);
+  EXPECT_GT(metrics["brdf_cosine_weighted_l2"]["l2_mean"].get<double>(), 0.0);
+  ASSERT_EQ(run("report " + s + " --size 24 --spp 2"), 0) << testing::ReadFile(dir.File("err.txt"));
+  EXPECT_GT(testing::ReadFile(s + "/report.html").size(), 10000u);
+}
+
+}  // namespace
+}  // namespace zbrdf

@@ -1,0 +1,98 @@
+// zbrdf fit-all: simulate and fit many materials, and tabulate the models' errors.
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "basis/error.h"
+#include "basis/parallel.h"
+#include "tools/cli/command.h"
+#include "tools/fit_all.h"
+#include "tools/interrupt.h"
+#include "tools/terminal_progress.h"
+
+namespace zbrdf::cli {
+namespace {
+
+std::vector<std::string> SplitModels(const std::string& list) {
+  std::vector<std::string> models;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) models.push_back(item);
+  }
+  if (models.empty()) throw InputError("--models is empty; e.g. --models dbrdf,ggx");
+  return models;
+}
+
+int RunFitAll(const std::vector<std::string>& args) {
+  CommandLine cl("fit-all",
+                 "Simulates every material on the rig and fits each model to it, writing a table\n"
+                 "of the cosine-weighted L2 error (Ngan et al. 2005, full hemisphere, relative to\n"
+                 "the true material) per material and model: DIR/fit-all.csv and DIR/fit-all.json\n"
+                 "(with the median and worst error per model). Resumable: materials whose session\n"
+                 "and fits exist in DIR are not redone; an interrupted one resumes.");
+  cl.Option("rig", "FILE", "rig description, e.g. simulate/rigs/thesis.yaml")
+      .Option("materials", "LIST", "material specs separated by commas; merl:* = all bundled", "merl:*")
+      .Option("order", "L", "zonal order", "8")
+      .Option("out", "DIR", "folder for the sessions and the table")
+      .Option("preset", "P", "fast or full", "fast")
+      .Option("models", "LIST", "models to fit: dbrdf, ggx, ward, as", "dbrdf,ggx")
+      .Option("seed", "N", "seed of every simulation", "1")
+      .Option("jobs", "N", "materials processed at once (default: the worker threads)")
+      .Flag("refit", "fit again even where fit-<model>.json exists")
+      .Flag("json", "print the table summary as JSON")
+      .Epilog("Example:\n"
+              "  zbrdf fit-all --rig simulate/rigs/thesis.yaml --materials 'merl:*' --order 8 \\\n"
+              "      --out results/merl-order8 --preset fast --models dbrdf,ggx");
+  if (!cl.Parse(args)) return 0;
+  FitAllOptions options;
+  options.rig_path = cl.Get("rig");
+  options.preset = cl.Get("preset");
+  options.order = cl.GetInt("order", 0, 30);
+  options.out_dir = cl.Get("out");
+  options.materials = ExpandMaterialList(cl.Get("materials"));
+  options.models = SplitModels(cl.Get("models"));
+  options.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
+  options.parallel_materials = cl.Has("jobs") ? cl.GetInt("jobs", 1, 16) : std::min(2, WorkerThreads());
+  options.refit = cl.Has("refit");
+  TerminalProgress progress(false);
+  options.progress = progress.Callback();
+  options.interrupt = InstallInterruptHandler();
+  const FitAllSummary summary = RunFitAll(options);
+  if (cl.Has("json")) {
+    nlohmann::json j = summary.table;
+    j.erase("rows");
+    j["simulated"] = summary.simulated;
+    j["reused_sessions"] = summary.reused_sessions;
+    j["fitted"] = summary.fitted;
+    j["reused_fits"] = summary.reused_fits;
+    j["failed"] = summary.failed;
+    j["interrupted"] = summary.interrupted;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("fit-all: %zu materials (%d simulated, %d sessions reused; %d fits, %d reused, %d "
+                "failed) -> %s/fit-all.csv\n",
+                summary.table["rows"].size(), summary.simulated, summary.reused_sessions,
+                summary.fitted, summary.reused_fits, summary.failed, options.out_dir.c_str());
+    for (const auto& [model, s] : summary.table["summary"].items()) {
+      if (s["median_error_cosine_l2"].is_null()) continue;
+      std::printf("  %-6s median error %.2f%%, worst %.2f%% (%s), %d materials\n", model.c_str(),
+                  100 * s["median_error_cosine_l2"].get<double>(),
+                  100 * s["worst_error_cosine_l2"].get<double>(),
+                  s["worst_material"].get<std::string>().c_str(), s["materials"].get<int>());
+    }
+  }
+  if (summary.interrupted) {
+    std::fprintf(stderr, "fit-all: interrupted; run the same command again to continue.\n");
+    return 130;
+  }
+  return summary.failed > 0 ? 1 : 0;
+}
+
+const CommandRegistration kReg({"fit-all", "simulate and fit many materials; table of model errors",
+                                RunFitAll});
+
+}  // namespace
+}  // namespace zbrdf::cli

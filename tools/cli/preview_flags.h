@@ -1,0 +1,31 @@
+// Flags shared by the commands that render material balls (preview, compare, report).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "tools/cli/command.h"
+#include "tools/environment.h"
+#include "tools/material_ball.h"
+
+namespace zbrdf::cli {
+
+// --light, --envmap, --envmap-rotate, --spp, --size, --camera, --sampling, --exposure, --seed,
+// with the given defaults for --spp and --size.
+void AddPreviewFlags(CommandLine& cl, int default_spp, int default_size);
+
+struct PreviewSetup {
+  BallOptions ball;
+  std::unique_ptr<Environment> environment;  // null in directional-light mode
+  std::string lighting;                      // "dir:45,30", "sky", "envmap FILE"
+  double exposure_ev = 0;
+};
+// Reads the flags; loads the environment map (or builds the sky). Throws InputError for bad
+// values, naming the flag.
+PreviewSetup ReadPreviewFlags(const CommandLine& cl);
+
+// "dir:THETA,PHI" (degrees: theta from the view axis, phi from +x toward +y) -> world direction
+// toward the light.
+Vec3 ParseLightDirection(const std::string& text);
+
+}  // namespace zbrdf::cli

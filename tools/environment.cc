@@ -1,0 +1,131 @@
+#include "tools/environment.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "basis/error.h"
+
+namespace zbrdf {
+namespace {
+
+Rgb Mix(const Rgb& a, const Rgb& b, double t) { return a * (1.0 - t) + b * t; }
+
+// The procedural sky without the sun (see environment.h).
+Rgb SkyGradient(const Vec3& d) {
+  const Rgb zenith(0.15, 0.27, 0.55), horizon(0.70, 0.75, 0.85), ground(0.16, 0.13, 0.10);
+  const Rgb upper = Mix(horizon, zenith, std::sqrt(std::max(0.0, d.y)));
+  // A soft horizon line, 2 deg wide.
+  const double t = std::clamp(d.y / std::sin(2.0 * M_PI / 180.0) * 0.5 + 0.5, 0.0, 1.0);
+  return Mix(ground, upper, t);
+}
+
+}  // namespace
+
+Environment::Environment(RgbImage latlong, double rotation_rad)
+    : image_(std::move(latlong)), rotation_rad_(rotation_rad) {
+  if (image_.width < 1 || image_.height < 1) throw InputError("environment map is empty");
+  std::vector<double> weights(image_.pixels.size());
+  double total = 0;
+  for (int y = 0; y < image_.height; ++y) {
+    const double sin_theta = std::sin(M_PI * (y + 0.5) / image_.height);
+    for (int x = 0; x < image_.width; ++x) {
+      const double w = image_.At(x, y).Max() * sin_theta;
+      weights[static_cast<size_t>(y) * image_.width + x] = w;
+      total += w;
+    }
+  }
+  if (total > 0) {
+    distribution_ = std::make_unique<Distribution2D>(weights, image_.width, image_.height);
+  }
+}
+
+Environment Environment::Constant(const Rgb& radiance) {
+  RgbImage image(8, 4);
+  std::fill(image.pixels.begin(), image.pixels.end(), radiance);
+  return Environment(std::move(image));
+}
+
+Environment Environment::Sky() {
+  constexpr int kWidth = 1024, kHeight = 512, kSuper = 4;
+  const Vec3 sun = Normalize(Vec3{-0.46, 0.643, 0.613});
+  const double sun_radius = 2.0 * M_PI / 180.0;
+  const double cos_sun = std::cos(sun_radius);
+  RgbImage image(kWidth, kHeight);
+  std::vector<double> coverage(image.pixels.size(), 0.0);
+  // Pixel directions follow the map convention with no rotation.
+  auto direction = [](double u, double v) {
+    const double phi = 2.0 * M_PI * (u - 0.5), theta = M_PI * v;
+    return Vec3{std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+  };
+  double sun_solid_angle = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    const double pixel_solid_angle =
+        2.0 * M_PI / kWidth * (std::cos(M_PI * y / kHeight) - std::cos(M_PI * (y + 1) / kHeight));
+    for (int x = 0; x < kWidth; ++x) {
+      Rgb sum;
+      int inside = 0;
+      for (int sy = 0; sy < kSuper; ++sy) {
+        for (int sx = 0; sx < kSuper; ++sx) {
+          const Vec3 d =
+              direction((x + (sx + 0.5) / kSuper) / kWidth, (y + (sy + 0.5) / kSuper) / kHeight);
+          sum += SkyGradient(d);
+          if (Dot(d, sun) >= cos_sun) ++inside;
+        }
+      }
+      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      image.pixels[i] = sum / (kSuper * kSuper);
+      coverage[i] = static_cast<double>(inside) / (kSuper * kSuper);
+      sun_solid_angle += coverage[i] * pixel_solid_angle;
+    }
+  }
+  // Sun radiance for an irradiance of 2.5 pi at normal incidence (the disk is small enough that
+  // cos over it is 1 to 6e-4).
+  const Rgb sun_color(1.0, 0.93, 0.82);
+  const Rgb sun_radiance = sun_color * (2.5 * M_PI / sun_solid_angle / sun_color.Luminance());
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] += sun_radiance * coverage[i];
+  Environment env(std::move(image));
+  env.sun_ = sun;
+  return env;
+}
+
+void Environment::MapCoordinates(const Vec3& d, double* u, double* v) const {
+  double phi = std::atan2(d.x, -d.z) - rotation_rad_;
+  *u = 0.5 + phi / (2.0 * M_PI);
+  *u -= std::floor(*u);
+  *v = std::acos(std::clamp(d.y, -1.0, 1.0)) / M_PI;
+}
+
+Vec3 Environment::Direction(double u, double v) const {
+  const double phi = 2.0 * M_PI * (u - 0.5) + rotation_rad_, theta = M_PI * v;
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+Rgb Environment::Radiance(const Vec3& d) const {
+  double u, v;
+  MapCoordinates(d, &u, &v);
+  const int x = std::min(static_cast<int>(u * image_.width), image_.width - 1);
+  const int y = std::min(static_cast<int>(v * image_.height), image_.height - 1);
+  return image_.At(x, y);
+}
+
+Vec3 Environment::Sample(double u0, double u1, double* pdf) const {
+  if (!distribution_) {
+    *pdf = 0;
+    return {0, 1, 0};
+  }
+  double pdf_uv = 0;
+  const auto [u, v] = distribution_->Sample(u0, u1, &pdf_uv);
+  const double sin_theta = std::sin(M_PI * v);
+  *pdf = sin_theta > 0 ? pdf_uv / (2.0 * M_PI * M_PI * sin_theta) : 0.0;
+  return Direction(u, v);
+}
+
+double Environment::Pdf(const Vec3& d) const {
+  if (!distribution_) return 0;
+  double u, v;
+  MapCoordinates(d, &u, &v);
+  const double sin_theta = std::sin(M_PI * v);
+  return sin_theta > 0 ? distribution_->Pdf(u, v) / (2.0 * M_PI * M_PI * sin_theta) : 0.0;
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,56 @@
+// Distant illumination for material previews: an equirectangular (latitude-longitude) HDR map,
+// sampled in proportion to its radiance.
+//
+// World frame of the previews: +y up, +z toward the camera, +x to the right. Map coordinates:
+// u = 1/2 + atan2(d.x, -d.z) / (2 pi) across (the map's centre column is what the camera sees
+// behind the ball), v = acos(d.y) / pi down (top row = zenith). Radiance is piecewise constant
+// per pixel (nearest pixel), which is exactly what the sampler's density describes, so that
+// estimates combined by MIS stay unbiased.
+//
+// Sky(): the built-in procedural environment used when no --envmap is given (docs/preview.md):
+// a blue-to-white gradient sky over a dim brown ground, and a sun of 2 deg radius at 40 deg
+// elevation, upper left and in front of the ball, delivering an irradiance of 2.5 pi on a
+// surface facing it (a white Lambertian surface facing the sun renders at 2.5 from the sun
+// alone), rasterized at 1024 x 512 with 4 x 4 supersampling.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "basis/vec3.h"
+#include "fitting/sampling.h"
+#include "tools/image.h"
+
+namespace zbrdf {
+
+class Environment {
+ public:
+  // rotation_rad turns the map about +y (positive: counter-clockwise seen from above).
+  // Throws InputError for an empty image.
+  explicit Environment(RgbImage latlong, double rotation_rad = 0.0);
+
+  static Environment Sky();
+  static Environment Constant(const Rgb& radiance);
+
+  // Radiance arriving from direction d (unit, world frame; d points away from the ball).
+  Rgb Radiance(const Vec3& d) const;
+  // A direction with solid-angle density *pdf proportional to the map's largest channel; pdf 0
+  // (and any direction) for an all-black map.
+  Vec3 Sample(double u0, double u1, double* pdf) const;
+  double Pdf(const Vec3& d) const;
+
+  const RgbImage& image() const { return image_; }
+  // The sun's direction for Sky() (world frame), else zero.
+  const Vec3& sun_direction() const { return sun_; }
+
+ private:
+  void MapCoordinates(const Vec3& d, double* u, double* v) const;
+  Vec3 Direction(double u, double v) const;
+
+  RgbImage image_;
+  double rotation_rad_ = 0;
+  std::unique_ptr<Distribution2D> distribution_;  // null for an all-black map
+  Vec3 sun_;
+};
+
+}  // namespace zbrdf

@@ -1,0 +1,282 @@
+#include "tools/fit_all.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "acquisition/session.h"
+#include "basis/error.h"
+#include "fitting/nbrdf.h"
+#include "simulate/rig.h"
+#include "tools/fit_session.h"
+#include "tools/virtual_capture.h"
+
+namespace zbrdf {
+namespace {
+
+bool StartsSpec(const std::string& token) {
+  const size_t colon = token.find(':'), equals = token.find('=');
+  return colon != std::string::npos && (equals == std::string::npos || colon < equals);
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return nullptr;
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_discarded() ? nlohmann::json(nullptr) : j;
+}
+
+// The camera's longest exposure from a "ExposureTime X us is outside [MIN, MAX] us" message, or
+// 0 if the message is not about the exposure range.
+double LongestExposureUs(const std::string& message) {
+  if (message.find("ExposureTime") == std::string::npos) return 0;
+  const size_t open = message.find('[', message.find("outside"));
+  const size_t comma = message.find(',', open);
+  if (open == std::string::npos || comma == std::string::npos) return 0;
+  return std::atof(message.c_str() + comma + 1);
+}
+
+}  // namespace
+
+std::vector<std::string> ExpandMaterialList(const std::string& list) {
+  std::vector<std::string> specs;
+  size_t start = 0;
+  while (start <= list.size()) {
+    size_t end = list.find(',', start);
+    if (end == std::string::npos) end = list.size();
+    std::string token = list.substr(start, end - start);
+    token.erase(0, token.find_first_not_of(" \t"));
+    token.erase(token.find_last_not_of(" \t") + 1);
+    if (!token.empty()) {
+      if (StartsSpec(token) || specs.empty()) {
+        specs.push_back(token);
+      } else {
+        specs.back() += "," + token;
+      }
+    }
+    start = end + 1;
+  }
+  std::vector<std::string> out;
+  for (const std::string& spec : specs) {
+    if (spec == "merl:*") {
+      for (const std::string& name : BundledMaterialNames()) out.push_back("merl:" + name);
+    } else {
+      out.push_back(spec);
+    }
+  }
+  return out;
+}
+
+std::string MaterialFolderName(const std::string& spec) {
+  std::string name;
+  for (char c : spec) {
+    const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+    name += keep ? c : '-';
+  }
+  while (name.find("--") != std::string::npos) name.erase(name.find("--"), 1);
+  if (name.size() > 100) name.resize(100);
+  return name.empty() ? "material" : name;
+}
+
+FitAllSummary RunFitAll(const FitAllOptions& options) {
+  if (options.materials.empty()) throw InputError("fit-all: no materials given (--materials)");
+  if (options.out_dir.empty()) throw InputError("fit-all: no output folder (--out)");
+  for (const std::string& m : options.models) {
+    if (m != "dbrdf" && m != "ggx" && m != "ward" && m != "as") {
+      throw InputError("fit-all: unknown model '" + m + "' in --models; use dbrdf, ggx, ward, as");
+    }
+  }
+  const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
+  std::filesystem::create_directories(options.out_dir);
+  FitContext context;
+  const int total = static_cast<int>(options.materials.size());
+  std::vector<nlohmann::json> rows(total);
+  std::vector<bool> done(total, false);
+  std::mutex mutex;
+  FitAllSummary summary;
+  std::atomic<int> next{0}, finished{0};
+  std::exception_ptr table_error;
+  Report(options.progress, {"fit-all", 0, total, "materials"});
+
+  auto write_table = [&]() {  // under mutex
+    nlohmann::json all_rows = nlohmann::json::array();
+    std::map<std::string, std::vector<double>> errors, errors_80, errors_zone;
+    std::map<std::string, std::pair<double, std::string>> worst;
+    for (int i = 0; i < total; ++i) {
+      if (!done[i]) continue;
+      all_rows.push_back(rows[i]);
+      for (const std::string& m : options.models) {
+        const nlohmann::json& e80 = rows[i]["error_cosine_l2_80"][m];
+        if (e80.is_number()) errors_80[m].push_back(e80.get<double>());
+        const nlohmann::json& ez = rows[i]["error_in_zone"][m];
+        if (ez.is_number()) errors_zone[m].push_back(ez.get<double>());
+        const nlohmann::json& e = rows[i]["error_cosine_l2"][m];
+        if (e.is_number()) {
+          errors[m].push_back(e.get<double>());
+          if (e.get<double>() > worst[m].first || worst[m].second.empty()) {
+            worst[m] = {e.get<double>(), rows[i]["material"].get<std::string>()};
+          }
+        }
+      }
+    }
+    nlohmann::json stats = nlohmann::json::object();
+    for (const std::string& m : options.models) {
+      const auto& v = errors[m];
+      stats[m] = {{"materials", v.size()},
+                  {"median_error_cosine_l2", v.empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(v))},
+                  {"worst_error_cosine_l2", v.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst[m].first)},
+                  {"worst_material", worst[m].second},
+                  {"median_error_cosine_l2_80",
+                   errors_80[m].empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(errors_80[m]))},
+                  {"median_error_in_zone",
+                   errors_zone[m].empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(errors_zone[m]))}};
+    }
+    nlohmann::json table = {{"rig", rig.name},  {"preset", options.preset}, {"order", options.order},
+                            {"seed", options.seed}, {"models", options.models}, {"rows", all_rows},
+                            {"summary", stats}};
+    WriteFileAtomically(options.out_dir + "/fit-all.json", table.dump(2) + "\n");
+    std::string csv = "material,folder";
+    for (const std::string& m : options.models) {
+      csv += ',';
+      csv += m;
+      csv += "_error_cosine_l2,";
+      csv += m;
+      csv += "_error_in_zone,";
+      csv += m;
+      csv += "_error_cosine_l2_80";
+    }
+    csv += "\n";
+    for (const auto& row : all_rows) {
+      // Specs contain commas: quote the field (RFC 4180).
+      csv += '"';
+      csv += row["material"].get<std::string>();
+      csv += "\",";
+      csv += row["folder"].get<std::string>();
+      for (const std::string& m : options.models) {
+        for (const char* key : {"error_cosine_l2", "error_in_zone", "error_cosine_l2_80"}) {
+          const nlohmann::json& e = row[key][m];
+          char value[32] = "";
+          if (e.is_number()) std::snprintf(value, sizeof(value), "%.6g", e.get<double>());
+          csv += std::string(",") + value;
+        }
+      }
+      csv += "\n";
+    }
+    WriteFileAtomically(options.out_dir + "/fit-all.csv", csv);
+    summary.table = table;
+  };
+
+  auto worker = [&]() {
+    while (true) {
+      if (options.interrupt && options.interrupt->load()) return;
+      const int i = next.fetch_add(1);
+      if (i >= total) return;
+      const std::string& spec = options.materials[i];
+      const std::string folder = MaterialFolderName(spec);
+      const std::string dir = options.out_dir + "/" + folder;
+      nlohmann::json row = {{"material", spec}, {"folder", folder}};
+      row["error_cosine_l2"] = nlohmann::json::object();
+      row["error_in_zone"] = nlohmann::json::object();
+      row["error_cosine_l2_80"] = nlohmann::json::object();
+      row["fit_time_s"] = nlohmann::json::object();
+      row["conditions"] = nlohmann::json::object();
+      bool simulated = false, reused_session = false, failed = false;
+      int fitted = 0, reused_fits = 0;
+      try {
+        if (!std::filesystem::exists(dir + "/zonal.exr")) {
+          VirtualCaptureArgs args;
+          args.rig = rig;
+          args.preset_name = options.preset;
+          args.material_spec = spec;
+          args.seed = options.seed;
+          args.job.out_dir = dir;
+          args.job.order = options.order;
+          args.job.resume = std::filesystem::exists(dir + "/session.json");
+          args.job.interrupt = options.interrupt;
+          VirtualCaptureOutcome outcome;
+          try {
+            outcome = RunVirtualCapture(args);
+          } catch (const DeviceError& e) {
+            // A very dark material: the metered exposure exceeds the camera's range. Capture with
+            // the longest bracket the camera allows instead (noisier, but data), keeping the
+            // failed attempt's folder aside.
+            const std::string message = e.what();
+            const double longest = LongestExposureUs(message);
+            if (longest <= 0) throw;
+            std::filesystem::rename(dir, dir + ".exposure-failed");
+            args.job.resume = false;
+            args.job.shortest_exposure_us =
+                longest / std::pow(2.0, args.job.stops_apart * (args.job.exposures - 1));
+            outcome = RunVirtualCapture(args);
+            row["capture_note"] = "metered exposure beyond the camera's range (" + message +
+                                  "); captured with the longest exposures it allows";
+          }
+          if (!outcome.result.complete) return;  // interrupted: resumable
+          simulated = true;
+        } else {
+          reused_session = true;
+        }
+        for (const std::string& model : options.models) {
+          const std::string report_path = dir + "/fit-" + model + ".json";
+          nlohmann::json report = options.refit ? nlohmann::json(nullptr) : ReadJsonFile(report_path);
+          if (report.is_null() || !report.contains("error_cosine_l2")) {
+            FitSessionOptions fit;
+            fit.model = model;
+            report = FitSession(dir, fit, &context).report;
+            ++fitted;
+          } else {
+            ++reused_fits;
+          }
+          row["error_cosine_l2"][model] = report.value("error_cosine_l2", nlohmann::json(nullptr));
+          row["error_in_zone"][model] = report.value("error_in_zone", nlohmann::json(nullptr));
+          row["error_cosine_l2_80"][model] = report.value("error_cosine_l2_80", nlohmann::json(nullptr));
+          row["fit_time_s"][model] = report.value("fit_time_s", nlohmann::json(nullptr));
+          row["conditions"][model] = report.value("conditions", nlohmann::json::array());
+        }
+      } catch (const std::exception& e) {
+        row["failure"] = e.what();
+        failed = true;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      rows[i] = row;
+      done[i] = true;
+      summary.simulated += simulated;
+      summary.reused_sessions += reused_session;
+      summary.fitted += fitted;
+      summary.reused_fits += reused_fits;
+      summary.failed += failed;
+      try {
+        write_table();
+      } catch (...) {
+        if (!table_error) table_error = std::current_exception();
+        return;
+      }
+      Report(options.progress, {"fit-all", ++finished, total, "materials"});
+    }
+  };
+  const int threads = std::clamp(options.parallel_materials, 1, 16);
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (table_error) std::rethrow_exception(table_error);
+  summary.interrupted = finished.load() < total;
+  write_table();
+  return summary;
+}
+
+}  // namespace zbrdf
