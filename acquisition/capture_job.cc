@@ -5,7 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
+#include <set>
 
 #include "basis/error.h"
 #include "simulate/direction_maps.h"
@@ -15,6 +17,16 @@ namespace zbrdf {
 namespace {
 // Meter frames get plan indices of their own, far beyond any plan.
 constexpr uint64_t kMeterFrameIndex = 1ull << 40;
+
+// The lobes a finished adaptive session did not capture (isotropy), by name.
+std::set<std::string> SkippedLobes(const nlohmann::json& session) {
+  std::set<std::string> out;
+  if (!session.contains("adaptive")) return out;
+  const nlohmann::json& a = session["adaptive"];
+  if (a.value("state", std::string()) != "done" || !a.contains("skipped_lobes")) return out;
+  for (const auto& name : a["skipped_lobes"]) out.insert(name.get<std::string>());
+  return out;
+}
 }  // namespace
 
 double MeterExposure(Camera& camera, Projector& projector, Clock& clock,
@@ -103,6 +115,14 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
     po.order = options.order;
     po.exposures = options.exposures;
     po.stops_apart = options.stops_apart;
+    if (options.adaptive.enabled) {
+      options.adaptive.Validate();
+      if (options.adaptive.adaptive_exposures) {
+        // The metered frame, then one as long as the pattern's response allows.
+        po.exposures = options.adaptive.max_ratio > 1 ? 2 : 1;
+        po.stops_apart = options.adaptive.max_ratio > 1 ? std::log2(options.adaptive.max_ratio) : 2;
+      }
+    }
     po.repeats = options.repeats;
     po.shortest_exposure_us = options.shortest_exposure_us > 0 ? options.shortest_exposure_us : 1000;
     MakePlan(po);  // validates the options before metering
@@ -119,6 +139,9 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
     info["rig_hash"] = std::to_string(RigHash(rig));
     info["calibration"] = calibration.source;
     info["plan"] = result.plan.ToJson();
+    if (options.adaptive.enabled) {
+      info["adaptive"] = {{"options", options.adaptive.ToJson()}, {"state", "running"}};
+    }
     const CameraInfo ci = camera.Info();
     const ProjectorInfo pi = projector.Info();
     info["devices"] = {{"camera", {{"id", ci.id}, {"model", ci.model}, {"width", ci.width},
@@ -150,13 +173,47 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   capture.on_lobe_complete = [&](int lobe, const std::vector<Frame>& frames) {
     processor.AddLobe(lobe, frames);
   };
+  // An adaptive session keeps deciding as it did when it was created (also on resume); once its
+  // order is settled ("state": "done") only the exposure rule remains, for recaptured frames.
+  std::unique_ptr<AdaptiveController> adaptive;
+  bool adaptive_running = false;
+  if (session.session().contains("adaptive")) {
+    const nlohmann::json& a = session.session()["adaptive"];
+    adaptive = std::make_unique<AdaptiveController>(
+        result.plan, calibration, AdaptiveOptions::FromJson(a.at("options")), &processor);
+    adaptive_running = a.value("state", std::string()) == "running";
+    capture.exposure_us = [&](int lobe, int exposure, const std::vector<const Frame*>& shorter) {
+      return adaptive->ExposureUs(lobe, exposure, shorter);
+    };
+    if (adaptive_running) {
+      capture.stop_after_lobe = [&](int lobe) { return adaptive->StopAfterLobe(lobe); };
+      capture.skip_lobe = [&](int lobe) { return adaptive->SkipLobe(lobe); };
+    }
+  }
+  const std::set<std::string> skipped = SkippedLobes(session.session());
+  if (!skipped.empty()) {
+    capture.skip_lobe = [&](int lobe) { return skipped.count(result.plan.lobes[lobe].Name()) > 0; };
+  }
   const auto capture_start = std::chrono::steady_clock::now();
   result.capture = RunCapture(session, result.plan, patterns, camera, projector, clock, capture);
   result.wall_capture_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - capture_start).count();
   if (result.capture.interrupted) return result;
-  result.zonal = processor.Finish();
+  const int order = adaptive ? adaptive->order() : result.plan.order;
+  result.zonal = processor.Finish(order);
   result.processing = processor.stats();
+  if (adaptive_running) {
+    result.adaptive = adaptive->Report();
+    nlohmann::json info = session.session();
+    const CapturePlan kept = TruncatePlan(result.plan, order);
+    info["plan"] = kept.ToJson();
+    info["adaptive"] = result.adaptive;
+    info["adaptive"]["state"] = "done";
+    session.UpdateSession(info);
+    result.plan = kept;
+  } else if (adaptive) {
+    result.adaptive = session.session()["adaptive"];
+  }
   result.zonal.attributes = {{"rig", rig.name},
                              {"rig_hash", std::to_string(RigHash(rig))},
                              {"calibration", calibration.source},
@@ -190,9 +247,14 @@ ProcessResult ProcessSession(const std::string& session_dir, const RigCalibratio
   ZonalProcessor processor(result.plan, patterns.lobes(), calibration, processing);
   processor.Start();
   const int per_lobe = static_cast<int>(result.plan.exposures_us.size()) * result.plan.repeats;
+  const std::set<std::string> skipped = SkippedLobes(session.session());
   const auto start = std::chrono::steady_clock::now();
   // Frames are read and verified on this thread while the processor merges the previous lobe.
   for (int lobe = 0; lobe < static_cast<int>(result.plan.lobes.size()); ++lobe) {
+    if (skipped.count(result.plan.lobes[lobe].Name())) {
+      processor.AddLobe(lobe, {});  // synthesized (isotropy)
+      continue;
+    }
     std::vector<Frame> frames;
     for (int k = 0; k < per_lobe; ++k) {
       const int index = lobe * per_lobe + k;

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "acquisition/adaptive.h"
 #include "acquisition/plan.h"
 #include "acquisition/processing.h"
 #include "acquisition/rig_calibration.h"
@@ -44,6 +45,10 @@ struct CaptureJobOptions {
   std::function<void(const CapturePlan& plan, double predicted_s)> on_plan;
   const std::atomic<bool>* interrupt = nullptr;
   nlohmann::json session_extra;     // merged into session.json (material, seed, preset, ...)
+  // enabled: `order` is the largest order allowed; bands and the second exposure of each pattern
+  // are decided while capturing (acquisition/adaptive.h). A resumed session uses the options in
+  // its session.json instead.
+  AdaptiveOptions adaptive;
 };
 
 struct CaptureJobResult {
@@ -56,6 +61,7 @@ struct CaptureJobResult {
   double pattern_seconds = 0;
   double metered_exposure_us = 0;
   bool complete = false;
+  nlohmann::json adaptive;         // adaptive sessions: AdaptiveController::Report(); else null
 };
 
 // Throws InputError for bad options or a session that cannot be resumed, DeviceError when a

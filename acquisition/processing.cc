@@ -154,8 +154,15 @@ void ZonalProcessor::AddLobe(int lobe, std::vector<Frame> frames) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     queue_.emplace_back(lobe, std::move(frames));
+    ++in_flight_;
   }
   cv_.notify_all();
+}
+
+void ZonalProcessor::Wait() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  cv_.wait(lock, [&] { return in_flight_ == 0 || error_; });
+  if (error_) std::rethrow_exception(error_);
 }
 
 void ZonalProcessor::Worker() {
@@ -179,6 +186,11 @@ void ZonalProcessor::Worker() {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!error_) error_ = std::current_exception();
     }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      --in_flight_;
+    }
+    cv_.notify_all();
   }
 }
 
@@ -187,7 +199,13 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
     throw InternalError("lobe " + std::to_string(lobe) + " processed out of order (expected " +
                         std::to_string(next_lobe_) + ")");
   }
+  if (frames.empty()) {
+    ProcessSkipped(lobe);
+    ++next_lobe_;
+    return;
+  }
   ++next_lobe_;
+  skipped_positive_ = false;
   const PlannedLobe& planned = plan_.lobes[lobe];
   const std::string name = planned.Name();
   auto start = Clock::now();
@@ -258,7 +276,151 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
   stats_.zonal_seconds += Since(start);
 }
 
-ZonalData ZonalProcessor::Finish() {
+namespace {
+
+// Per theta row and channel, the least-squares coefficient of the sampled harmonic h in `value`,
+// and its variance from the cells' (independent) variances.
+void ProjectRows(const GridImage& g, const ExitantGrid& grid, const std::vector<double>& h,
+                 std::array<std::vector<double>, 3>* coef, std::array<std::vector<double>, 3>* var) {
+  double hh = 0;
+  for (double v : h) hh += v * v;
+  for (int ch = 0; ch < 3; ++ch) {
+    (*coef)[ch].assign(grid.n_theta, 0.0);
+    (*var)[ch].assign(grid.n_theta, 0.0);
+    if (g.value[ch].size() != static_cast<size_t>(grid.cells())) continue;
+    for (int i = 0; i < grid.n_theta; ++i) {
+      double dot = 0, v = 0;
+      for (int j = 0; j < grid.n_phi; ++j) {
+        const size_t c = static_cast<size_t>(i) * grid.n_phi + j;
+        dot += g.value[ch][c] * h[j];
+        if (c < g.variance[ch].size()) v += g.variance[ch][c] * h[j] * h[j];
+      }
+      (*coef)[ch][i] = dot / hh;
+      (*var)[ch][i] = v / (hh * hh);
+    }
+  }
+}
+
+std::vector<double> Harmonic(const ExitantGrid& grid, int m, bool sine) {
+  std::vector<double> h(grid.n_phi);
+  for (int j = 0; j < grid.n_phi; ++j) {
+    const double phi = (j + 0.5) * grid.phi_step_rad;
+    h[j] = m == 0 ? 1.0 : sine ? std::sin(m * phi) : std::cos(m * phi);
+  }
+  return h;
+}
+
+// A function that is `scale` x coef(theta) x h(phi), with the coefficients' variances.
+GridImage FromRows(const ExitantGrid& grid, const std::vector<double>& h, double scale,
+                   const std::array<std::vector<double>, 3>& coef,
+                   const std::array<std::vector<double>, 3>& var) {
+  GridImage out;
+  for (int ch = 0; ch < 3; ++ch) {
+    out.value[ch].assign(grid.cells(), 0.0f);
+    out.variance[ch].assign(grid.cells(), 0.0f);
+    out.weight[ch].assign(grid.cells(), 0.0f);
+    for (int i = 0; i < grid.n_theta; ++i) {
+      for (int j = 0; j < grid.n_phi; ++j) {
+        const size_t c = static_cast<size_t>(i) * grid.n_phi + j;
+        out.value[ch][c] = static_cast<float>(scale * coef[ch][i] * h[j]);
+        out.variance[ch][c] = static_cast<float>(scale * scale * var[ch][i] * h[j] * h[j]);
+      }
+    }
+  }
+  out.filled.assign(grid.cells(), 0);
+  return out;
+}
+
+}  // namespace
+
+void ZonalProcessor::ProcessSkipped(int lobe) {
+  const PlannedLobe& planned = plan_.lobes[lobe];
+  if (planned.kind == PlannedLobe::Kind::kDark) throw InputError("the dark pattern cannot be skipped");
+  const auto start = Clock::now();
+  const int k = ShIndex(planned.l, planned.m);
+  if (planned.kind == PlannedLobe::Kind::kPositive) {
+    if (planned.m >= 0) {
+      throw InputError("lobe " + planned.Name() + " cannot be skipped (isotropy makes only the "
+                       "lobes of Z_l,-m and the negative lobes of Z_l,m, m > 0, redundant)");
+    }
+    skipped_positive_ = true;
+    return;
+  }
+  if (planned.m < 0 && skipped_positive_) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_synthesis_.push_back(k);
+    return;
+  }
+  if (planned.m <= 0 || pending_lobe_ != lobe - 1) {
+    throw InputError("lobe " + planned.Name() + " was skipped but its partner was measured; "
+                     "only the negative lobe of Z_l,m with m > 0 may be skipped alone");
+  }
+  // The positive lobe's response per unit Z, z+ = (X+ - D) / (K s+), on the grid.
+  const HdrImage& pos = pending_;
+  const double s_pos = patterns_[lobe - 1].radiance_per_unit_z;
+  const size_t pixels = pos.rate.size();
+  std::vector<float> value(pixels, 0.0f), variance(pixels, 0.0f);
+  std::vector<uint8_t> valid(pixels, 0);
+  for (size_t p = 0; p < pixels; ++p) {
+    const double k_p = calibration_.camera_response[p];
+    if (k_p <= 0 || !pos.valid[p] || !dark_.valid[p] || s_pos <= 0) continue;
+    const double a = 1 / (k_p * s_pos);
+    value[p] = static_cast<float>((pos.rate[p] - dark_.rate[p]) * a);
+    variance[p] = static_cast<float>((pos.variance[p] + dark_.variance[p]) * a * a);
+    valid[p] = 1;
+  }
+  GridImage half = resampler_->Resample(value, variance, valid);
+  for (int ch = 0; ch < 3; ++ch) {
+    const double scale = calibration_.channel_scale[ch];
+    for (float& v : half.value[ch]) v = static_cast<float>(v * scale);
+    for (float& v : half.variance[ch]) v = static_cast<float>(v * scale * scale);
+  }
+  // Isotropy: z- (phi) = z+ (phi - pi/m), so z = z+ - z- keeps the odd multiples of m in z+'s
+  // azimuthal spectrum, doubled; z has only the m-th: z = 2 c_m(theta) cos(m phi).
+  const std::vector<double> h = Harmonic(grid_, planned.m, false);
+  std::array<std::vector<double>, 3> coef, var;
+  ProjectRows(half, grid_, h, &coef, &var);
+  data_.functions[k] = FromRows(grid_, h, 2.0, coef, var);
+  pending_ = HdrImage();
+  pending_lobe_ = -1;
+  stats_.zonal_seconds += Since(start);
+}
+
+void ZonalProcessor::SynthesizeIsotropic(int l) {
+  std::vector<int> left;
+  std::vector<int> pending;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending.swap(pending_synthesis_);
+  }
+  for (int k : pending) {
+    int kl, km;
+    ShDegreeOrder(k, &kl, &km);
+    const GridImage& source = data_.functions[ShIndex(kl, -km)];
+    if ((l >= 0 && kl != l) || source.value[0].size() != static_cast<size_t>(grid_.cells())) {
+      left.push_back(k);
+      continue;
+    }
+    // z_l,-m (phi) = z_l,m (phi - pi / (2m)): the cos(m phi) profile of z_lm times sin(m phi).
+    std::array<std::vector<double>, 3> coef, var;
+    ProjectRows(source, grid_, Harmonic(grid_, -km, false), &coef, &var);
+    data_.functions[k] = FromRows(grid_, Harmonic(grid_, -km, true), 1.0, coef, var);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_synthesis_.insert(pending_synthesis_.end(), left.begin(), left.end());
+}
+
+ZonalData ZonalProcessor::Finish() { return Finish(plan_.order); }
+
+ZonalData ZonalProcessor::Finish(int order) {
+  if (order < 0 || order > plan_.order) {
+    throw InternalError("Finish: order " + std::to_string(order) + " outside the plan's 0.." +
+                        std::to_string(plan_.order));
+  }
+  int lobes_needed = 0;
+  for (const PlannedLobe& lobe : plan_.lobes) {
+    if (lobe.kind == PlannedLobe::Kind::kDark || lobe.l <= order) ++lobes_needed;
+  }
   if (worker_.joinable()) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -269,10 +431,13 @@ ZonalData ZonalProcessor::Finish() {
   }
   StopImageWriter();
   if (error_) std::rethrow_exception(error_);
-  if (next_lobe_ != static_cast<int>(plan_.lobes.size())) {
+  SynthesizeIsotropic();
+  if (next_lobe_ < lobes_needed) {
     throw InputError("processing incomplete: " + std::to_string(next_lobe_) + " of " +
-                     std::to_string(plan_.lobes.size()) + " lobes have frames");
+                     std::to_string(lobes_needed) + " lobes have frames");
   }
+  data_.order = order;
+  data_.functions.resize(ShCount(order));
   const auto start = Clock::now();
   ProjectExitant(&data_);
   stats_.zonal_seconds += Since(start);

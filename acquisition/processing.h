@@ -55,13 +55,31 @@ class ZonalProcessor {
   // Processes lobes on a background thread from now on (AddLobe only queues them).
   void Start();
   // The frames (all exposures and repeats) of plan lobe `lobe`; lobes must come in plan order.
+  // No frames: the lobe was not captured because the material is isotropic (adaptive capture,
+  // docs/adaptive.md); its function is synthesized instead: a skipped negative lobe of Z_lm
+  // (m > 0) after a measured positive one gives z_lm = 2 x the cos(m phi) part of the positive
+  // lobe's response per theta row; skipped lobes of Z_l,-m (m > 0) give z_l,-m = the cos(m phi)
+  // profile of z_lm times sin(m phi), once z_lm is known (SynthesizeIsotropic, or Finish).
   void AddLobe(int lobe, std::vector<Frame> frames);
+  // Synthesizes the functions of band l (l < 0: all bands) whose lobes came without frames and
+  // whose source is processed. Call after Wait().
+  void SynthesizeIsotropic(int l = -1);
   // Waits for queued lobes; computes the tensor coefficients. Rethrows a processing error.
   ZonalData Finish();
+  // The same for the plan truncated to `order` (<= the plan's): every lobe of bands <= order must
+  // have been added; functions of higher bands already processed are dropped (adaptive capture).
+  ZonalData Finish(int order);
+  // Waits until every lobe added so far is processed; rethrows a processing error. Then
+  // Function() may be read until the next AddLobe.
+  void Wait();
+  // z_k on the exitant grid of basis function k, once its lobes are processed (else empty).
+  const GridImage& Function(int k) const { return data_.functions.at(k); }
+  const ExitantGrid& grid() const { return grid_; }
   const ProcessingStats& stats() const { return stats_; }
 
  private:
   void Process(int lobe, const std::vector<Frame>& frames);
+  void ProcessSkipped(int lobe);
   void Worker();
   void QueueImage(std::string path, const HdrImage& hdr);
   void ImageWriter();
@@ -86,6 +104,9 @@ class ZonalProcessor {
   std::condition_variable cv_;
   std::deque<std::pair<int, std::vector<Frame>>> queue_;
   bool stopping_ = false;
+  int in_flight_ = 0;  // lobes queued or being processed
+  std::vector<int> pending_synthesis_;  // functions k = (l, -m) awaiting z_lm
+  bool skipped_positive_ = false;       // the last positive lobe came without frames
   std::exception_ptr error_;
   // HDR image writer.
   static constexpr size_t kMaxQueuedImages = 3;

@@ -257,6 +257,16 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
   const int64_t start_us = clock.NowUs();
   const int per_lobe = static_cast<int>(plan.exposures_us.size()) * plan.repeats;
   for (int lobe = 0; lobe < static_cast<int>(plan.lobes.size()); ++lobe) {
+    if (options.skip_lobe && options.skip_lobe(lobe)) {
+      progress_done += per_lobe;
+      Report(options.progress, {"capture", progress_done, total, "frames"});
+      if (options.on_lobe_complete) options.on_lobe_complete(lobe, {});
+      if (options.stop_after_lobe && options.stop_after_lobe(lobe)) {
+        result.stopped_after_lobe = lobe;
+        break;
+      }
+      continue;
+    }
     std::vector<Frame> frames(per_lobe);
     std::vector<int> missing;
     for (int k = 0; k < per_lobe; ++k) {
@@ -274,7 +284,19 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
           return result;
         }
         const PlannedFrame pf = plan.Frame(index);
-        const double requested = plan.exposures_us[pf.exposure];
+        double requested = plan.exposures_us[pf.exposure];
+        if (options.exposure_us && pf.exposure > 0) {
+          std::vector<const Frame*> shorter;
+          for (int e = 0; e < pf.exposure; ++e) {
+            const int k = plan.FrameIndex(lobe, e, pf.repeat) - lobe * per_lobe;
+            if (frames[k].data.empty()) {
+              frames[k] = session.ReadFrame(done.at(lobe * per_lobe + k));
+              ++result.frames_reused;
+            }
+            shorter.push_back(&frames[k]);
+          }
+          requested = options.exposure_us(lobe, pf.exposure, shorter);
+        }
         camera.SetExposure(requested);
         camera.SetNextFrameIndex(static_cast<uint64_t>(index));
         Frame frame = camera.Grab(options.grab_timeout);
@@ -299,6 +321,10 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
       }
     }
     if (options.on_lobe_complete) options.on_lobe_complete(lobe, frames);
+    if (options.stop_after_lobe && options.stop_after_lobe(lobe)) {
+      result.stopped_after_lobe = lobe;
+      break;
+    }
   }
   result.frames_recaptured = std::min(journaled_but_broken, result.frames_captured);
   result.device_time_s = (clock.NowUs() - start_us) * 1e-6;

@@ -98,6 +98,18 @@ struct CaptureOptions {
   // processing runs while the capture goes on. Frames of lobes completed in an earlier run of
   // the session are read back from disk and passed too.
   std::function<void(int lobe, const std::vector<Frame>& frames)> on_lobe_complete;
+  // Adaptive capture (acquisition/adaptive.h); both unset for a fixed plan.
+  // If set, the exposure to request for frame `exposure` (> 0) of the bracket of lobe `lobe`,
+  // given that lobe's frames at the shorter exposures of the same repeat (in bracket order; read
+  // back from disk when an earlier run took them). Otherwise plan.exposures_us[exposure].
+  std::function<double(int lobe, int exposure, const std::vector<const Frame*>& shorter)>
+      exposure_us;
+  // If set, called after on_lobe_complete; true ends the capture after that lobe (the rest of the
+  // plan is not wanted: CaptureResult::stopped_after_lobe says where; not an interruption).
+  std::function<bool(int lobe)> stop_after_lobe;
+  // If set and true for a lobe, it is not captured (its pattern is not shown); on_lobe_complete
+  // gets no frames for it (the processor synthesizes it: isotropy, docs/adaptive.md).
+  std::function<bool(int lobe)> skip_lobe;
 };
 
 struct CaptureResult {
@@ -106,6 +118,7 @@ struct CaptureResult {
   int frames_recaptured = 0;  // journaled but missing or corrupt, captured again
   bool interrupted = false;
   double device_time_s = 0;   // on the session clock (modeled time on the virtual rig)
+  int stopped_after_lobe = -1;  // CaptureOptions::stop_after_lobe ended the capture there
 };
 
 // Runs (or resumes) the plan: for each lobe, shows its pattern, waits the settle time, and for

@@ -22,6 +22,7 @@
 #include "basis/parallel.h"
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
+#include "fitting/exr_header.h"
 #include "simulate/direction_maps.h"
 
 namespace zbrdf {
@@ -284,9 +285,63 @@ std::string FunctionLayer(int k) {
   return name;
 }
 
+// Where `data` holds a value float storage cannot keep finite (NaN, Inf, or beyond FLT_MAX) or
+// a negative variance: "" if nowhere, else the first such place, for error messages.
+std::string FirstInvalidValue(const ZonalData& data) {
+  const auto text = [](double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.6g", v);
+    return std::string(buffer);
+  };
+  const auto bad = [](double v, bool variance) {
+    const float f = static_cast<float>(v);
+    return !std::isfinite(f) || (variance && f < 0);
+  };
+  for (size_t k = 0; k < data.functions.size(); ++k) {
+    for (int ch = 0; ch < 3; ++ch) {
+      const std::vector<float>& value = data.functions[k].value[ch];
+      const std::vector<float>& variance = data.functions[k].variance[ch];
+      for (size_t c = 0; c < value.size(); ++c) {
+        if (bad(value[c], false)) {
+          return "grid value " + FunctionLayer(static_cast<int>(k)) + "." + kChannel[ch] +
+                 " at cell " + std::to_string(c) + " is " + text(value[c]);
+        }
+      }
+      for (size_t c = 0; c < variance.size(); ++c) {
+        if (bad(variance[c], true)) {
+          return "grid variance " + FunctionLayer(static_cast<int>(k)) + ".var." + kChannel[ch] +
+                 " at cell " + std::to_string(c) + " is " + text(variance[c]);
+        }
+      }
+    }
+  }
+  for (int ch = 0; ch < 3; ++ch) {
+    for (int variance = 0; variance < 2; ++variance) {
+      const Eigen::MatrixXd& m = variance ? data.tensor_variance[ch] : data.tensor[ch];
+      for (Eigen::Index k = 0; k < m.rows(); ++k) {
+        for (Eigen::Index j = 0; j < m.cols(); ++j) {
+          if (bad(m(k, j), variance)) {
+            return std::string("tensor ") + (variance ? "variance var." : "coefficient z.") +
+                   kChannel[ch] + "(" + std::to_string(k) + ", " + std::to_string(j) + ") is " + text(m(k, j));
+          }
+        }
+      }
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 void WriteZonalExr(const std::string& path, const ZonalData& data) {
+  // Never write a NaN: a non-finite coefficient is a numerical failure upstream, and a file
+  // holding one would only fail later, far from its cause.
+  if (const std::string invalid = FirstInvalidValue(data); !invalid.empty()) {
+    throw NumericalError("zonal data for " + path + " not written: " + invalid +
+                         " (non-finite, beyond float range, or a negative variance); the frames "
+                         "or the calibration that produced them are damaged: check them and "
+                         "re-process the session (zbrdf process)");
+  }
   const ExitantGrid& g = data.grid;
   const int n = static_cast<int>(data.functions.size());
   const int cells = g.cells();
@@ -363,6 +418,7 @@ void WriteZonalExr(const std::string& path, const ZonalData& data) {
 
 ZonalData ReadZonalExr(const std::string& path) {
   ZonalData data;
+  CheckExrHeaderSizes(path, path);
   try {
     Imf::MultiPartInputFile file(path.c_str());
     int grid_part = -1, tensor_part = -1;
@@ -466,12 +522,11 @@ ZonalData ReadZonalExr(const std::string& path) {
   } catch (const std::exception& e) {
     throw InputError("cannot read zonal file " + path + ": " + e.what());
   }
-  for (const GridImage& f : data.functions) {
-    for (int ch = 0; ch < 3; ++ch) {
-      for (float v : f.value[ch]) {
-        if (!std::isfinite(v)) throw InputError(path + " holds a non-finite coefficient; damaged file?");
-      }
-    }
+  // Values, variances and the tensor alike: a damaged file must not reach the conversion or
+  // the fits (which would turn one NaN into NaN everywhere).
+  if (const std::string invalid = FirstInvalidValue(data); !invalid.empty()) {
+    throw InputError(path + " holds an invalid value: " + invalid +
+                     "; the file is damaged: re-process the session (zbrdf process)");
   }
   return data;
 }

@@ -14,6 +14,7 @@
 #include <ImfVecAttribute.h>
 
 #include "basis/error.h"
+#include "fitting/exr_header.h"
 
 namespace zbrdf {
 namespace {
@@ -64,6 +65,7 @@ struct Contents {
 
 Contents ReadContents(const std::string& path) {
   Contents out;
+  CheckExrHeaderSizes(path, path);
   try {
     Imf::InputFile file(path.c_str());
     const Imf::Header& h = file.header();

@@ -1,9 +1,11 @@
 #include "fitting/dbrdf_fit.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <mutex>
 
 #include <ceres/ceres.h>
@@ -89,6 +91,35 @@ Eigen::MatrixXd TableMap(int theta_samples, int phi_samples, const std::vector<i
   return map;
 }
 
+// Second differences of the ratio r = p / s (s: the GGX shape TableMap modulates) at the knots,
+// along theta for each phi, in x = theta / theta_last_knot, each scaled so that the sum of squares
+// approximates the integral of r''(x)^2 dx. Rows x parameters; the parameters are p at the knots.
+Eigen::MatrixXd RatioCurvature(int theta_samples, int phi_samples, const std::vector<int>& knots,
+                               double tail_alpha) {
+  const double step = 0.5 * M_PI / (theta_samples - 1);
+  const int nk = static_cast<int>(knots.size());
+  const int params = 1 + (nk - 1) * phi_samples;
+  auto param = [&](int knot, int k) { return knot == 0 ? 0 : 1 + (knot - 1) * phi_samples + k; };
+  auto inv_shape = [&](int knot) { return 1.0 / std::max(GgxD(tail_alpha, knots[knot] * step), 1e-300); };
+  const double x_scale = 1.0 / std::max(1, knots.back());
+  auto x = [&](int knot) { return knots[knot] * x_scale; };
+  std::vector<Eigen::RowVectorXd> rows;
+  for (int k = 0; k < phi_samples; ++k) {
+    for (int a = 1; a + 1 < nk; ++a) {
+      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(params);
+      const double h0 = x(a) - x(a - 1), h1 = x(a + 1) - x(a), hm = 0.5 * (h0 + h1);
+      const double scale = std::sqrt(hm) / hm;
+      row[param(a + 1, k)] += scale * inv_shape(a + 1) / h1;
+      row[param(a, k)] -= scale * inv_shape(a) * (1.0 / h0 + 1.0 / h1);
+      row[param(a - 1, k)] += scale * inv_shape(a - 1) / h0;
+      rows.push_back(row);
+    }
+  }
+  Eigen::MatrixXd m(rows.size(), params);
+  for (size_t i = 0; i < rows.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = rows[i];
+  return m;
+}
+
 // The fit's linear pieces in parameter space.
 struct Problem {
   FitWeights w;
@@ -96,12 +127,14 @@ struct Problem {
   Eigen::VectorXd diffuse;   // coefficients
   Eigen::RowVectorXd norm;   // normalization integral per parameter
   double norm_weight = 1;
+  // Smoothness penalty rows (penalty x parameters), residuals penalty * q; empty: none.
+  Eigen::MatrixXd penalty;
 };
 
 class DBrdfCost final : public ceres::CostFunction {
  public:
   explicit DBrdfCost(const Problem& p) : p_(p) {
-    set_num_residuals(3 * static_cast<int>(p.diffuse.size()) + 1);
+    set_num_residuals(3 * static_cast<int>(p.diffuse.size()) + 1 + static_cast<int>(p.penalty.rows()));
     mutable_parameter_block_sizes()->assign({static_cast<int>(p.nq.cols()), 1, 3, 3});
   }
 
@@ -122,8 +155,10 @@ class DBrdfCost final : public ceres::CostFunction {
       }
     }
     residuals[3 * n] = p_.norm_weight * (p_.norm.dot(q) - 1.0);
+    const Eigen::Index np_rows = p_.penalty.rows();
+    if (np_rows > 0) Eigen::Map<Eigen::VectorXd>(residuals + 3 * n + 1, np_rows) = p_.penalty * q;
     if (!jacobians) return true;
-    const int rows = static_cast<int>(3 * n + 1);
+    const int rows = static_cast<int>(3 * n + 1 + np_rows);
     if (jacobians[0]) {
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> j(
           jacobians[0], rows, nq);
@@ -132,12 +167,13 @@ class DBrdfCost final : public ceres::CostFunction {
             p_.w.weight[ch].asDiagonal() * (c[ch] * (f0 * p_.nq + p_.rq));
       }
       j.row(3 * n) = p_.norm_weight * p_.norm;
+      if (np_rows > 0) j.bottomRows(np_rows) = p_.penalty;
     }
     if (jacobians[1]) {
       for (int ch = 0; ch < 3; ++ch) {
         for (Eigen::Index i = 0; i < n; ++i) jacobians[1][ch * n + i] = p_.w.weight[ch][i] * c[ch] * np[i];
       }
-      jacobians[1][3 * n] = 0;
+      for (Eigen::Index r = 3 * n; r < rows; ++r) jacobians[1][r] = 0;
     }
     for (int block = 2; block <= 3; ++block) {
       if (!jacobians[block]) continue;
@@ -231,6 +267,7 @@ nlohmann::json DBrdfFitResult::ToJson() const {
   j["alpha_equivalent"] = alpha_equivalent;
   j["tail_alpha"] = tail_alpha;
   j["knots"] = knots;
+  j["smoothness_weight"] = smoothness_weight;
   j["initial"] = initial;
   nlohmann::json u;
   u["available"] = uncertainty.available;
@@ -249,6 +286,10 @@ DBrdfFitter::DBrdfFitter(const Zone& zone, int order, const DBrdfFitOptions& opt
   const auto t0 = WallClock::now();
   if (!(options.f0_min >= 0 && options.f0_min <= options.f0_max && options.f0_max <= 1)) {
     throw InputError("D-BRDF fit: F0 bounds must satisfy 0 <= f0_min <= f0_max <= 1");
+  }
+  if (!(options.smoothness >= 0 && std::isfinite(options.smoothness))) {
+    throw InputError("D-BRDF fit: smoothness must be finite and >= 0 (got " +
+                     std::to_string(options.smoothness) + ")");
   }
   if (options.theta_samples < 3 || 90 % (options.theta_samples - 1) != 0 ||
       options.anisotropic_theta_samples < 3 || 90 % (options.anisotropic_theta_samples - 1) != 0 ||
@@ -434,29 +475,75 @@ DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
 
   double f0 = s.f0;
   double c[3] = {s.c.r, s.c.g, s.c.b}, kd[3] = {s.kd.r, s.kd.g, s.kd.b};
-  ceres::Problem ceres_problem;
-  auto* cost = new DBrdfCost(problem);
-  ceres_problem.AddResidualBlock(cost, nullptr, s.q.data(), &f0, c, kd);
-  for (int i = 0; i < s.q.size(); ++i) ceres_problem.SetParameterLowerBound(s.q.data(), i, 0.0);
-  if (f0_lo == f0_hi) {
-    ceres_problem.SetParameterBlockConstant(&f0);
-  } else {
-    ceres_problem.SetParameterLowerBound(&f0, 0, f0_lo);
-    ceres_problem.SetParameterUpperBound(&f0, 0, f0_hi);
-  }
-  for (int ch = 0; ch < 3; ++ch) {
-    ceres_problem.SetParameterLowerBound(c, ch, 0.0);
-    ceres_problem.SetParameterLowerBound(kd, ch, 0.0);
-  }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options_.max_iterations;
-  solver.function_tolerance = 1e-10;
-  solver.gradient_tolerance = 1e-12;
-  solver.parameter_tolerance = 1e-10;
-  solver.logging_type = ceres::SILENT;
+  const Eigen::MatrixXd curvature = RatioCurvature(theta_samples, phi_samples, knots, result.tail_alpha);
+  std::unique_ptr<ceres::Problem> ceres_problem;
   ceres::Solver::Summary summary;
-  ceres::Solve(solver, &ceres_problem, &summary);
+  // Ceres from the current (s.q, f0, c, kd) with problem.penalty; returns the data chi2.
+  auto refine = [&]() {
+    ceres_problem = std::make_unique<ceres::Problem>();
+    auto* cost = new DBrdfCost(problem);
+    ceres_problem->AddResidualBlock(cost, nullptr, s.q.data(), &f0, c, kd);
+    for (int i = 0; i < s.q.size(); ++i) ceres_problem->SetParameterLowerBound(s.q.data(), i, 0.0);
+    if (f0_lo == f0_hi) {
+      ceres_problem->SetParameterBlockConstant(&f0);
+    } else {
+      ceres_problem->SetParameterLowerBound(&f0, 0, f0_lo);
+      ceres_problem->SetParameterUpperBound(&f0, 0, f0_hi);
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+      ceres_problem->SetParameterLowerBound(c, ch, 0.0);
+      ceres_problem->SetParameterLowerBound(kd, ch, 0.0);
+    }
+    ceres::Solver::Options solver;
+    solver.linear_solver_type = ceres::DENSE_QR;
+    solver.max_num_iterations = options_.max_iterations;
+    solver.function_tolerance = 1e-10;
+    solver.gradient_tolerance = 1e-12;
+    solver.parameter_tolerance = 1e-10;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solve(solver, ceres_problem.get(), &summary);
+    Solution now;
+    now.q = s.q;
+    now.f0 = f0;
+    now.c = {c[0], c[1], c[2]};
+    now.kd = {kd[0], kd[1], kd[2]};
+    return Chi2(problem, now);
+  };
+  const double chi2_free = refine();
+  // Step 5 (header): the smoothness prior, in proportion to the misfit beyond the noise, accepted
+  // only while it costs at most kPriorCost of that misfit: where the misfit is the model's own
+  // (a mirror at low order, chi2/dof 1e6) the data outweigh any smoothness, so the weight is
+  // lowered tenfold up to twice, else the prior is dropped.
+  const int dof = std::max(1, problem.w.used - static_cast<int>(s.q.size()) - 7);
+  const double excess = std::max(0.0, chi2_free - dof);
+  if (options_.smoothness > 0 && excess > 0 && curvature.rows() > 0) {
+    constexpr double kPriorCost = 0.1;
+    const Eigen::VectorXd q_free = s.q;
+    const double f0_free = f0;
+    const std::array<double, 6> colours_free = {c[0], c[1], c[2], kd[0], kd[1], kd[2]};
+    auto restore = [&] {
+      s.q = q_free;
+      f0 = f0_free;
+      for (int ch = 0; ch < 3; ++ch) {
+        c[ch] = colours_free[ch];
+        kd[ch] = colours_free[3 + ch];
+      }
+    };
+    bool accepted = false;
+    for (double lambda = options_.smoothness; !accepted && lambda >= 0.01 * options_.smoothness * 0.999;
+         lambda *= 0.1) {
+      restore();
+      result.smoothness_weight = lambda * std::sqrt(excess / curvature.rows());
+      problem.penalty = result.smoothness_weight * curvature;
+      accepted = refine() <= (1.0 + kPriorCost) * chi2_free;
+    }
+    if (!accepted) {
+      restore();
+      result.smoothness_weight = 0;
+      problem.penalty.resize(0, 0);
+      refine();  // at the unregularized solution already: the problem for the covariance
+    }
+  }
 
   Solution fitted;
   fitted.q = s.q;
@@ -476,7 +563,7 @@ DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
     cov_options.min_reciprocal_condition_number = 1e-14;
     ceres::Covariance covariance(cov_options);
     std::vector<std::pair<const double*, const double*>> blocks = {{&f0, &f0}, {c, c}, {kd, kd}};
-    if (covariance.Compute(blocks, &ceres_problem)) {
+    if (covariance.Compute(blocks, ceres_problem.get())) {
       const double inflate = std::max(1.0, result.statistics.chi2_per_dof);
       double v_f0 = 0, v_c[9], v_kd[9];
       if (covariance.GetCovarianceBlock(&f0, &f0, &v_f0) && covariance.GetCovarianceBlock(c, c, v_c) &&

@@ -18,6 +18,7 @@
 #include "fitting/mirror.h"
 #include "fitting/model_parameters.h"
 #include "fitting/nbrdf.h"
+#include "fitting/retro.h"
 #include "fitting/ward.h"
 
 namespace zbrdf {
@@ -54,6 +55,10 @@ const std::vector<ModelInfo>& Models() {
        nullptr,
        "dbrdf:c=1,F0=0.04,kd=0,theta_samples=N,phi_samples=1,p=P0,P1,..  D-BRDF, p(h) tabulated"},
       {"mirror", {"R"}, "R", "mirror:R=R  (or mirror:R)  perfect mirror"},
+      {"retro",
+       {"kd", "kr", "n"},
+       nullptr,
+       "retro:kd=0,kr=KR,n=N  retro-reflective cosine lobe about w_o + Lambert"},
       {"merl", {}, nullptr, "merl:NAME  bundled measured material (network), names below"},
       {"file", {}, nullptr, "file:PATH.binary  MERL table;  file:PATH.json  network file"},
       {"target", {}, nullptr,
@@ -240,6 +245,10 @@ std::unique_ptr<Brdf> MakeAnalytic(const std::string& spec, const ModelInfo& mod
     return std::make_unique<GgxBrdf>(ax, ay, params.Color("F0", 0.04), params.Color("kd", 0.0));
   }
   if (name == "mirror") return std::make_unique<MirrorBrdf>(params.Color("R"));
+  if (name == "retro") {
+    return std::make_unique<RetroBrdf>(params.Color("kd", 0.0), params.Color("kr"),
+                                       params.Scalar("n"));
+  }
   // dbrdf
   DBrdfParams dbrdf;
   dbrdf.c = params.Color("c", 1.0);

@@ -7,6 +7,7 @@
 //   ggx:alpha=0.2,F0=0.04,kd=0.1,0.2,0.5                         (or alpha_x=..,alpha_y=..)
 //   dbrdf:c=1,F0=0.04,kd=0,theta_samples=3,phi_samples=1,p=2,1,0.5
 //   mirror:R=0.95                mirror:0.9
+//   retro:kd=0.1,kr=0.6,n=20     retro-reflective lobe about w_o (fitting/retro.h)
 //   merl:blue-acrylic            a bundled measured material (network), see MaterialSpecHelp()
 //   file:PATH.binary             a MERL table;   file:PATH.json: a network file
 //   target:white  target:graycard  target:mirror   the calibration targets (constants below)

@@ -17,6 +17,7 @@
 
 #include "basis/error.h"
 #include "basis/parallel.h"
+#include "fitting/exr_header.h"
 
 namespace zbrdf {
 namespace {
@@ -153,6 +154,7 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
 
 ShBrdfData ReadShFile(const std::string& path) {
   ShBrdfData data;
+  CheckExrHeaderSizes(path, path);
   try {
     Imf::MultiPartInputFile file(path.c_str());
     int exitant_part = -1, tensor_part = -1;

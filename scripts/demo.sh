@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds, and runs a simulated capture of a bundled
 # measured material (MERL blue-acrylic) on the thesis rig, end to end: exposure metering, 50
-# basis patterns x 3 exposures, HDR merge, zonal coefficients, and their error against the
-# material's true coefficients. Results land in results/blue-acrylic/ (see its report.json).
+# basis patterns x 3 exposures, HDR merge, zonal coefficients and their error against the
+# material's true coefficients; then the SH conversion, the D-BRDF fit (with the thesis's figure
+# 3.3: truth | SH | fit), a material-ball preview and an HTML report. Results land in
+# results/blue-acrylic/ (open report.html).
 #
 #   bash scripts/demo.sh                 # full resolution (about 2 minutes on 2 cores)
 #   bash scripts/demo.sh --preset fast   # 4x4-binned camera, quarter-size projector (~15 s)
@@ -20,8 +22,20 @@ mkdir -p results
 ./build/zbrdf simulate --rig simulate/rigs/thesis.yaml --material merl:blue-acrylic --order 4 \
   --out "$out" "$@"
 echo
+./build/zbrdf convert "$out" --to sh --target sh
+echo
+./build/zbrdf fit "$out" --model dbrdf --figure "$out/figure-3-3.png"
+echo
+./build/zbrdf preview "$out" --out "$out/ball.png"
+./build/zbrdf report "$out"
+echo
 echo "Results in $out/:"
-echo "  zonal.exr     zonal coefficients per basis function (open with any OpenEXR viewer)"
-echo "  hdr/*.exr     the HDR image of every basis pattern"
-echo "  frames/       the raw frames (16-bit TIFF), journal.jsonl, session.json"
-echo "  report.json   timings and the coefficient error against the material"
+echo "  report.html      everything below on one page (open it in a browser)"
+echo "  zonal.exr        zonal coefficients per basis function (any OpenEXR viewer)"
+echo "  sh-sh.exr        the SH conversion, with per-exitant tables for renderers"
+echo "  fit-dbrdf.exr    the fitted D-BRDF (docs/sh-and-dbrdf-files.md); fit-dbrdf.json its report"
+echo "  figure-3-3.png   ground truth | SH of the zonal data | D-BRDF fit"
+echo "  ball.png         a material ball of the fit under the built-in sky"
+echo "  hdr/*.exr        the HDR image of every basis pattern"
+echo "  frames/          the raw frames (16-bit TIFF), journal.jsonl, session.json"
+echo "  report.json      timings and the coefficient error against the material"

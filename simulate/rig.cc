@@ -58,6 +58,11 @@ class Reader {
                  const std::vector<std::string>& known) {
     if (!node || !node.IsMap()) return;
     for (const auto& item : node) {
+      if (!item.first.IsScalar()) {  // a list or map used as a key ("? [a, b]" or "{a: 1}: 2")
+        Error(path.empty() ? "the top level" : path,
+              "has a key that is a list or map; keys must be field names");
+        continue;
+      }
       const std::string key = item.first.as<std::string>();
       if (std::find(known.begin(), known.end(), key) == known.end()) {
         std::string list;
@@ -125,7 +130,8 @@ class Reader {
                               }
                               return "";
                             });
-    return static_cast<int>(v);
+    // Out of range (an error is recorded): no cast, which would be undefined beyond int.
+    return v >= min && v <= max ? static_cast<int>(v) : min;
   }
 
   std::vector<double> Numbers(const YAML::Node& parent, const std::string& path,
@@ -211,10 +217,12 @@ const std::vector<std::string> kLensKeys = {"resolution",        "pixel_pitch_um
 ThinLensParams ReadLens(Reader& r, const YAML::Node& node, const std::string& path) {
   ThinLensParams lens;
   const std::vector<double> res = r.Numbers(node, path, "resolution", 2, std::nullopt);
-  lens.width = static_cast<int>(res[0]);
-  lens.height = static_cast<int>(res[1]);
-  if (res[0] != lens.width || res[1] != lens.height || lens.width < 8 || lens.height < 8 ||
-      lens.width > 20000 || lens.height > 20000) {
+  // Checked before the conversion to int, which is undefined for values beyond int's range.
+  const auto pixels = [](double v) { return v >= 8 && v <= 20000 && v == std::floor(v); };
+  if (pixels(res[0]) && pixels(res[1])) {
+    lens.width = static_cast<int>(res[0]);
+    lens.height = static_cast<int>(res[1]);
+  } else {
     r.Error(Reader::Join(path, "resolution"),
             "must be two integers in [8, 20000] (width, height in pixels)");
   }
@@ -427,12 +435,18 @@ Rig LoadRig(const std::string& path) {
 
 namespace {
 
-// Merges overlay into base: maps key by key, anything else replaced.
-void MergeYaml(YAML::Node base, const YAML::Node& overlay) {
+// Merges overlay into base: maps key by key, anything else replaced. `source` names the overlay
+// in errors.
+void MergeYaml(YAML::Node base, const YAML::Node& overlay, const std::string& source) {
   for (auto it = overlay.begin(); it != overlay.end(); ++it) {
+    if (!it->first.IsScalar()) {
+      throw InputError("rig overlay " + source +
+                       ": a key is a list or map; keys must be rig field names, e.g. "
+                       "misalignment: {camera_tilt_deg: [0.5, 0]}");
+    }
     const std::string key = it->first.as<std::string>();
     if (it->second.IsMap() && base[key] && base[key].IsMap()) {
-      MergeYaml(base[key], it->second);
+      MergeYaml(base[key], it->second, source);
     } else {
       base[key] = it->second;
     }
@@ -455,7 +469,7 @@ Rig ApplyRigOverlayText(const Rig& rig, const std::string& yaml_text,
                      ": must be a YAML map of rig sections, e.g. misalignment: {...}");
   }
   YAML::Node base = YAML::Load(WriteRigYaml(rig));
-  MergeYaml(base, overlay);
+  MergeYaml(base, overlay, name_for_errors);
   YAML::Emitter out;
   out << base;
   Rig built = ParseRig(std::string(out.c_str()) + "\n", rig.name + " + " + name_for_errors);

@@ -25,6 +25,20 @@ nlohmann::json CaptureJobReport(const CaptureJobResult& r, double device_time_s)
                {"phi_step_deg", RadToDeg(r.zonal.grid.phi_step_rad)},
                {"n_theta", r.zonal.grid.n_theta},
                {"n_phi", r.zonal.grid.n_phi}};
+  // Adaptive sessions: which bands were taken and why it stopped; predicted_s was for the
+  // largest order, capture_time_model_s is what it took.
+  if (!r.adaptive.is_null()) {
+    j["adaptive"] = r.adaptive;
+    // Lobes isotropy made redundant have no frames.
+    int skipped = 0;
+    for (const PlannedLobe& lobe : r.plan.lobes) {
+      for (const auto& name : r.adaptive.value("skipped_lobes", nlohmann::json::array())) {
+        skipped += name.get<std::string>() == lobe.Name();
+      }
+    }
+    j["patterns"] = r.plan.lobes.size() - skipped;
+    j["frames"] = r.plan.frame_count() - skipped * static_cast<int>(r.plan.exposures_us.size()) * r.plan.repeats;
+  }
   return j;
 }
 
@@ -57,6 +71,13 @@ std::string FormatCaptureSummary(const nlohmann::json& j) {
   std::snprintf(buf, sizeof(buf), "  capture time on the rig: %.1f s (predicted %.1f s)\n",
                 j["capture_time_model_s"].get<double>(), j["capture_time_predicted_s"].get<double>());
   out += buf;
+  if (j.contains("adaptive")) {
+    const nlohmann::json& a = j["adaptive"];
+    std::snprintf(buf, sizeof(buf), "  adaptive: order %d of at most %d (%s), predicted error %.3g%%\n",
+                  a.value("order", 0), a.value("max_order", 0),
+                  a.value("reason", std::string()).c_str(), 100 * a.value("predicted_error", 0.0));
+    out += buf;
+  }
   if (j.contains("wall_time_s")) {
     const auto& w = j["wall_time_s"];
     std::string stages;

@@ -148,7 +148,7 @@ TensorFile ReadTensorFile(const std::string& path) {
     if (pos + name_length > data.size()) {
       throw InputError("tensor file " + path + ": truncated in a field name");
     }
-    const std::string name(reinterpret_cast<const char*>(&data[pos]), name_length);
+    const std::string name(reinterpret_cast<const char*>(data.data()) + pos, name_length);
     pos += name_length;
     const size_t rank = GetLittleEndian(data, &pos, 2, path);
     const int type = static_cast<int>(GetLittleEndian(data, &pos, 1, path));
@@ -159,8 +159,19 @@ TensorFile ReadTensorFile(const std::string& path) {
     }
     TensorField field;
     field.type = static_cast<TensorField::Type>(type);
-    for (size_t r = 0; r < rank; ++r) field.shape.push_back(GetLittleEndian(data, &pos, 8, path));
-    const uint64_t size = field.Count() * TensorField::TypeSize(field.type);
+    // The product of the shape can overflow 64 bits: check each factor against the bytes left,
+    // so that a corrupt shape cannot pass as a small (wrapped-around) size.
+    uint64_t size = TensorField::TypeSize(field.type);
+    for (size_t r = 0; r < rank; ++r) {
+      const uint64_t extent = GetLittleEndian(data, &pos, 8, path);
+      field.shape.push_back(extent);
+      if (size != 0 && extent > data.size() / size) {
+        throw InputError("tensor file " + path + ": field '" + name + "' has dimension " +
+                         std::to_string(r) + " of " + std::to_string(extent) +
+                         ", more values than the file holds; the file is corrupt");
+      }
+      size *= extent;
+    }
     if (offset > data.size() || size > data.size() - offset) {
       throw InputError("tensor file " + path + ": the data of field '" + name +
                        "' reaches past the end of the file; the file is truncated");

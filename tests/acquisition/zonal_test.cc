@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <random>
 
@@ -196,6 +197,87 @@ TEST(ZonalExr, DamagedMissingOrForeignFilesAreNamedInputErrors) {
   }
   std::ofstream(path, std::ios::binary | std::ios::trunc) << "not an EXR file at all";
   EXPECT_THROW(ReadZonalExr(path), InputError);
+  fs::remove(path);
+}
+
+// Found by the stress suite (tools/stress.h, zonal group): WriteZonalExr stored NaN, and doubles
+// beyond float range as Inf, without a word; the reader then checked only the grid values, so a
+// non-finite tensor coefficient or variance reached the SH conversion and the fits. Now neither
+// side lets one through (the reader's side is exercised by the stress cases zonal-read-*, which
+// damage a file on disk).
+TEST(ZonalExr, NonFiniteOrOverflowingValuesAreNeverWritten) {
+  const int n = ShCount(2);
+  const ZonalData good = SyntheticData(Eigen::MatrixXd::Identity(n, n), 2, 5.0, 10.0);
+  ZonalData projected = good;
+  ProjectExitant(&projected);
+  const std::string path = TempPath("nan.exr");
+  struct Damage {
+    const char* name;
+    std::function<void(ZonalData*)> apply;
+    const char* named;  // what the message must name
+  };
+  const std::vector<Damage> damages = {
+      {"NaN tensor", [](ZonalData* d) { d->tensor[1](3, 2) = std::nan(""); }, "z.G(3, 2)"},
+      {"tensor beyond float", [](ZonalData* d) { d->tensor[0](0, 1) = 1e39; }, "z.R(0, 1)"},
+      {"Inf variance", [](ZonalData* d) { d->tensor_variance[2](1, 1) = INFINITY; }, "var.B(1, 1)"},
+      {"negative variance", [](ZonalData* d) { d->functions[2].variance[0][4] = -1; }, "Z1_0.var.R"},
+      {"NaN grid value", [](ZonalData* d) { d->functions[1].value[1][0] = NAN; }, "Z1_-1.G"},
+  };
+  for (const Damage& damage : damages) {
+    ZonalData d = projected;
+    damage.apply(&d);
+    fs::remove(path);
+    try {
+      WriteZonalExr(path, d);
+      ADD_FAILURE() << damage.name << " was written";
+    } catch (const NumericalError& e) {
+      EXPECT_NE(std::string(e.what()).find(damage.named), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(path)) << damage.name;
+  }
+  WriteZonalExr(path, projected);  // undamaged data still write and read
+  EXPECT_NO_THROW(ReadZonalExr(path));
+  fs::remove(path);
+}
+
+// Found by fuzz/zonal_exr_fuzz: OpenEXR 3.1 allocates header attributes at the size the file
+// declares, and reads a channel list by its own layout whatever its declared size, so a 3.5 KB
+// file whose channel list was cut short made it read the next bytes as a 1.9 GB string. The
+// header is checked before OpenEXR sees it (fitting/exr_header.h).
+TEST(ZonalExr, HeaderAttributesLargerThanTheFileAreInputErrors) {
+  const std::string fuzzed = ZBRDF_TEST_DATA_DIR "/fuzz/zonal-channel-list-cut-short.exr";
+  try {
+    ReadZonalExr(fuzzed);
+    FAIL() << "a corrupt header was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("OpenEXR header attribute 'channels'"), std::string::npos)
+        << e.what();
+  }
+  // A valid file whose zbrdf.attributes string claims 1.9 GB.
+  const int n = ShCount(1);
+  ZonalData d = SyntheticData(Eigen::MatrixXd::Identity(n, n), 1, 5.0, 10.0);
+  ProjectExitant(&d);
+  const std::string path = TempPath("huge-attribute.exr");
+  WriteZonalExr(path, d);
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string key("zbrdf.attributes\0string\0", 24);
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at + key.size(), 4, std::string("\0\0\0\x74", 4));
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  try {
+    ReadZonalExr(path);
+    FAIL() << "an attribute larger than the file was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'zbrdf.attributes' declares 1946157056 bytes"),
+              std::string::npos)
+        << e.what();
+  }
   fs::remove(path);
 }
 

@@ -98,7 +98,7 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"gold", "expected MODEL:PARAMETERS"},
       {"foo:1",
-       "unknown model 'foo'; valid: lambert, blinn-phong, ward, as, ggx, dbrdf, mirror, "
+       "unknown model 'foo'; valid: lambert, blinn-phong, ward, as, ggx, dbrdf, mirror, retro, "
        "merl, file"},
       {"lambert:", "empty value in the parameters of lambert"},
       {"lambert:0.1,,0.3", "empty value"},
@@ -141,7 +141,7 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
 
 TEST(MaterialSpecTest, HelpListsModelsAndBundledMaterials) {
   const std::vector<std::string> models = MaterialModelNames();
-  EXPECT_EQ(models.size(), 10u);
+  EXPECT_EQ(models.size(), 11u);
   const std::string help = MaterialSpecHelp();
   for (const std::string& model : models) {
     EXPECT_NE(help.find("  " + model + ":"), std::string::npos) << model;

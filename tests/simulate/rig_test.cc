@@ -80,6 +80,48 @@ TEST(RigTest, ErrorsNameTheFieldAndTheValue) {
   EXPECT_THROW(LoadRig("/no/such/rig.yaml"), InputError);
 }
 
+// Found by fuzz/rig_fuzz and fuzz/rig_overlay_fuzz: a list or map used as a key ("? [a, b]",
+// "{[1, 2]: 3}") made yaml-cpp's conversion to a field name throw YAML::BadConversion, which
+// escaped the readers instead of an InputError.
+TEST(RigTest, KeysThatAreNotNamesAreInputErrors) {
+  std::string text = ThesisText();
+  const std::string top = ErrorOf(text + "? [a, b]\n: 1\n");
+  EXPECT_NE(top.find("the top level has a key that is a list or map"), std::string::npos) << top;
+  const size_t parabola = text.find("parabola:\n");
+  ASSERT_NE(parabola, std::string::npos);
+  const std::string nested =
+      ErrorOf(text.insert(parabola + 10, "  {x: 1}: 2\n"));
+  EXPECT_NE(nested.find("parabola has a key that is a list or map"), std::string::npos) << nested;
+
+  const Rig thesis = LoadRig(testing::SourceRig("thesis.yaml"));
+  EXPECT_THROW(ApplyRigOverlayText(thesis, "{[1, 2]: 3}", "faults.yaml"), InputError);
+  EXPECT_THROW(ApplyRigOverlayText(thesis, "camera:\n  [x]: 1\n", "faults.yaml"), InputError);
+}
+
+// Found by fuzz/rig_overlay_fuzz: camera.resolution [688888888888888880, 512] was converted to
+// int before its range was checked (undefined behaviour; UBSan's float-cast-overflow). Integer
+// fields had the same conversion after a failed range check.
+TEST(RigTest, NumbersBeyondIntAreInputErrorsNotConversions) {
+  const std::string text = ThesisText();
+  const auto replace = [](std::string s, const std::string& from, const std::string& to) {
+    const size_t at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return s.replace(at, from.size(), to);
+  };
+  const std::string resolution =
+      ErrorOf(replace(text, "resolution: [1360, 1024]", "resolution: [688888888888888880, 1024]"));
+  EXPECT_NE(resolution.find("camera.resolution must be two integers in [8, 20000]"),
+            std::string::npos)
+      << resolution;
+  const std::string steps = ErrorOf(replace(text, "design_steps: 20000", "design_steps: 1e30"));
+  EXPECT_NE(steps.find("dome.design_steps must be an integer"), std::string::npos) << steps;
+
+  const Rig thesis = LoadRig(testing::SourceRig("thesis.yaml"));
+  EXPECT_THROW(ApplyRigOverlayText(thesis, "camera: {resolution: [688888888888888880, 512]}",
+                                   "faults.yaml"),
+               InputError);
+}
+
 TEST(RigTest, FastPresetKeepsTheOpticsAndTheFieldOfView) {
   const Rig rig = LoadRig(testing::SourceRig("thesis.yaml"));
   const Rig fast = ApplyPreset(rig, Preset::kFast);

@@ -19,6 +19,21 @@ namespace {
 
 using testing::TempDir;
 
+// Regression (stress suite): `convert` of a simulated mirror session printed its summary with
+// get<double>() on the errors, which are null for a delta material (f_r is a distribution), and
+// failed with a JSON type error after writing the SH file.
+TEST(Commands, ConvertOfADeltaMaterialSessionPrintsUndefinedErrorsAsNa) {
+  TempDir dir("commands-convert-mirror");
+  const std::string s = dir.File("session");
+  std::filesystem::create_directories(s);
+  testing::WriteSessionJson(s, "mirror:0.9");
+  WriteZonalExr(s + "/zonal.exr", testing::MakeZonalData());
+  ASSERT_EQ(testing::RunZbrdf("convert " + s + " --to sh", dir.File("out.txt"), dir.File("err.txt")), 0)
+      << testing::ReadFile(dir.File("err.txt"));
+  EXPECT_NE(testing::ReadFile(dir.File("out.txt")).find("n/a in the zone"), std::string::npos)
+      << testing::ReadFile(dir.File("out.txt"));
+}
+
 TEST(Commands, ExportPreviewPlotCompareReportOnASession) {
   TempDir dir("commands");
   const std::string s = dir.File("session");

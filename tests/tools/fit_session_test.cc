@@ -31,6 +31,7 @@ struct GgxCase {
   std::string spec;
   double alpha;
   Rgb f0, kd;
+  double kd_tolerance = 0.02;  // relative
 };
 
 class GgxGroundTruthTest : public ::testing::TestWithParam<GgxCase> {};
@@ -42,13 +43,15 @@ TEST_P(GgxGroundTruthTest, GgxFitRecoversF0DiffuseAndLobeWidth) {
   ASSERT_TRUE(r["fitted"].get<bool>()) << r.dump(2);
   const nlohmann::json& p = r["params"];
   // Acceptance (docs/fitting.md): F0 and diffuse within 2%, lobe width within 5%. Measured on
-  // these sessions: alpha 0.2%, F0 0.3%, kd 0.5% (the capture's coefficient error is 2-3% in
-  // the zone, but it is mostly noise and resampling error, which a 7-parameter fit averages).
+  // these sessions: alpha 0.2-0.7%, F0 0.3%, kd 0.5% for alpha 0.3 and 0.5. The capture's
+  // coefficients differ from the exact projection of the material by 0.3-0.6% (relative L2 of the
+  // isotropic blocks), 15-40x their noise, so the error is systematic; for most materials a
+  // 7-parameter fit shrugs it off, but see GgxCase kd_tolerance for alpha 0.1.
   EXPECT_NEAR(p["alpha"].get<double>(), c.alpha, 0.05 * c.alpha);
   const Rgb f0 = RgbOf(p["F0"]), kd = RgbOf(p["kd"]);
   for (int ch = 0; ch < 3; ++ch) {
     EXPECT_NEAR(f0[ch], c.f0[ch], 0.02 * c.f0[ch]) << "F0 channel " << ch;
-    EXPECT_NEAR(kd[ch], c.kd[ch], 0.02 * c.kd[ch]) << "kd channel " << ch;
+    EXPECT_NEAR(kd[ch], c.kd[ch], c.kd_tolerance * c.kd[ch]) << "kd channel " << ch;
   }
   EXPECT_LT(r["error_cosine_l2"].get<double>(), 0.05);
   // The D-BRDF cannot represent GGX's 1 / (4 cos cos) geometry (docs/fitting.md), but it fits
@@ -61,7 +64,17 @@ TEST_P(GgxGroundTruthTest, GgxFitRecoversF0DiffuseAndLobeWidth) {
 
 INSTANTIATE_TEST_SUITE_P(
     Thesis, GgxGroundTruthTest,
-    ::testing::Values(GgxCase{"ggx:alpha=0.1,F0=0.9,kd=0.05", 0.1, Rgb(0.9), Rgb(0.05)},
+    // alpha 0.1, F0 0.9, kd 0.05: the fit of this session's coefficients gives kd 0.0473 (5.5%
+    // low; alpha 0.7%, F0 0.3%, error_cosine_l2 0.008). The same fitter on the exact projection of
+    // the material (a finer, 1 deg half-vector rule than the fitter's 3 deg one) recovers kd to
+    // 1e-4 (analytic_fit_test.cc, RecoversANarrowBrightLobeOverAWeakDiffuse), so the fit is
+    // unbiased and the 5.5% is the capture's 0.55% coefficient error (40x its noise) propagated:
+    // kd / pi is 1e-4 of the lobe's peak and the lobe's tail is as large as kd / pi from theta_h
+    // 30 deg on, so kd carries ~5% of the in-zone signal and a relative coefficient error reaches
+    // kd amplified ~10x. The fit's own one-sigma kd (0.00065, scaled by chi2/dof) assumes white
+    // errors and understates this by 4x. Tolerance 8%: the measured 5.5% with room for the capture
+    // error to grow by 1.4x (0.55% -> 0.8%) before this test flags it.
+    ::testing::Values(GgxCase{"ggx:alpha=0.1,F0=0.9,kd=0.05", 0.1, Rgb(0.9), Rgb(0.05), 0.08},
                       GgxCase{"ggx:alpha=0.3,F0=0.04,kd=0.2,0.3,0.4", 0.3, Rgb(0.04), Rgb(0.2, 0.3, 0.4)},
                       GgxCase{"ggx:alpha=0.5,F0=0.5,kd=0.1,0.2,0.3", 0.5, Rgb(0.5), Rgb(0.1, 0.2, 0.3)}),
     // Stable names (CTest registers tests by name; the default prints the object's bytes).
@@ -136,7 +149,24 @@ TEST(FitSessionTest, AnalyticFitsWriteARecreatableSpec) {
     EXPECT_EQ(spec.rfind(std::string(model) + ":", 0), 0u) << spec;
     EXPECT_NO_THROW(MakeBrdf(spec));
     EXPECT_TRUE(std::filesystem::exists(session + "/fit-" + model + ".json"));
-    EXPECT_LT(r["error_cosine_l2"].get<double>(), 0.05) << model;
+    if (std::string(model) == "ward") {
+      // Ward contains the Lambertian (rho_s = 0). Measured: 0.0003.
+      EXPECT_LT(r["error_cosine_l2"].get<double>(), 0.05) << model;
+      continue;
+    }
+    // Ashikhmin-Shirley does not: its diffuse term 28 Rd (1 - Rs) / (23 pi) g(cos theta_i)
+    // g(cos theta_o), g(c) = 1 - (1 - c / 2)^5 (Ashikhmin & Shirley 2000, eq. 5), vanishes at
+    // grazing angles, and its specular lobe never does (Schlick's F = (1 - k.h)^5 at Rs = 0, over
+    // max(cos theta_i, cos theta_o)). The diffuse term alone, with the Rd best over the whole
+    // hemisphere, leaves error_cosine_l2 0.394 (closed form: the integrals separate); with the Rd
+    // best over the zone (11.3-54.9 deg), Rs = 0 and the best n (1, the end of the fit's range) the
+    // full model leaves 0.063 in the zone and 0.505 over the hemisphere (fit_error.h's
+    // quadrature). The fit does better in the zone (measured 0.051) with a broad lobe (n = 1,
+    // Rs 0.16-0.30) that flattens g's trend there, at 0.48 over the hemisphere. Limits: in the
+    // zone, below that Rs = 0 model's 0.063 (the fit must find at least as good a member of its
+    // family); over the hemisphere, 0.505 + 10% for the lobe's extrapolation.
+    EXPECT_LT(r["error_in_zone"].get<double>(), 0.063) << model;
+    EXPECT_LT(r["error_cosine_l2"].get<double>(), 0.55) << model;
   }
 }
 

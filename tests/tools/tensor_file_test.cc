@@ -34,5 +34,35 @@ TEST(TensorFile, RoundTripAndDamage) {
   EXPECT_THROW(ReadTensorFile(dir.File("v2.bsdf")), InputError);
 }
 
+// Found by fuzz/tensor_file_fuzz (rgl_bsdf_fuzz): a shape of 2^32 x 2^32 float32 values is
+// 2^66 bytes, which wrapped around to 0 and passed the size check; AsFloat32 then threw
+// std::length_error. The reader must reject the shape.
+TEST(TensorFile, ShapeWhoseSizeOverflowsIsAnInputError) {
+  testing::TempDir dir("tensor-overflow");
+  std::string bytes("tensor_file\0\1\0", 14);
+  auto put = [&](uint64_t value, int size) {
+    for (int k = 0; k < size; ++k) bytes.push_back(static_cast<char>(value >> (8 * k)));
+  };
+  put(1, 4);  // one field
+  put(1, 2);
+  bytes += "x";
+  put(2, 2);   // rank
+  put(10, 1);  // float32
+  put(0, 8);   // offset
+  put(uint64_t{1} << 32, 8);
+  put(uint64_t{1} << 32, 8);
+  testing::WriteFile(dir.File("overflow.bsdf"), bytes);
+  EXPECT_THROW(ReadTensorFile(dir.File("overflow.bsdf")), InputError);
+}
+
+// Found by fuzz/tensor_file_fuzz: a field name of length 0 at the very end of the file indexed
+// one past the data (a _GLIBCXX_ASSERTIONS abort) before the truncation was noticed.
+TEST(TensorFile, EmptyNameAtTheEndIsAnInputError) {
+  testing::TempDir dir("tensor-empty-name");
+  // One field (count 0x78000001, as the fuzzer had it), a name of length 0, then nothing.
+  testing::WriteFile(dir.File("cut.bsdf"), std::string("tensor_file\0\1\0\1\0\0x\0\0", 20));
+  EXPECT_THROW(ReadTensorFile(dir.File("cut.bsdf")), InputError);
+}
+
 }  // namespace
 }  // namespace zbrdf

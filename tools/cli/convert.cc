@@ -83,13 +83,21 @@ int RunConvert(const std::vector<std::string>& args) {
               result.kept_directions, result.singular_directions,
               result.diagnostics.truncated_components);
   if (report.contains("material")) {
-    std::printf("  error vs %s (f_r cos theta_i, relative L2): %.2f%% in the zone",
-                report["material"].get<std::string>().c_str(), 100 * report["error_in_zone"].get<double>());
+    // An error is null where it is undefined (a delta material's f_r is a distribution).
+    const auto percent = [&report](const char* key) {
+      const nlohmann::json& v = report[key];
+      if (!v.is_number()) return std::string("n/a");
+      char text[32];
+      std::snprintf(text, sizeof(text), "%.2f%%", 100 * v.get<double>());
+      return std::string(text);
+    };
+    std::printf("  error vs %s (f_r cos theta_i, relative L2): %s in the zone",
+                report["material"].get<std::string>().c_str(), percent("error_in_zone").c_str());
     if (!report["error_outside_zone"].is_null()) {
-      std::printf(", %.2f%% outside", 100 * report["error_outside_zone"].get<double>());
+      std::printf(", %s outside", percent("error_outside_zone").c_str());
     }
-    std::printf(", %.2f%% over the hemisphere; negative over %.2f%% of it\n",
-                100 * report["error_cosine_l2"].get<double>(), 100 * report["negative_fraction"].get<double>());
+    std::printf(", %s over the hemisphere; negative over %s of it\n",
+                percent("error_cosine_l2").c_str(), percent("negative_fraction").c_str());
   }
   for (const std::string& w : result.warnings) std::printf("  warning: %s\n", w.c_str());
   return 0;

@@ -1,0 +1,22 @@
+// A check of an OpenEXR file's headers before OpenEXR reads them, for the readers of zbrdf's
+// EXR files (zonal.exr, SH and D-BRDF files).
+//
+// OpenEXR 3.1 allocates every header attribute at the size the file declares before reading it,
+// so a corrupt or hostile file of a few KB can ask for gigabytes (found by fuzz/zonal_exr_fuzz).
+// Every attribute of a real file lies inside the file; this scan rejects one that does not. It
+// follows the layout of the OpenEXR file format ("OpenEXR File Layout": magic number, version
+// field, then per part a header of name, type, int32 size and value, ended by an empty name;
+// multi-part files end the list of headers with one more empty name) and stops quietly at
+// anything else, which OpenEXR then reports itself.
+#pragma once
+
+#include <string>
+
+namespace zbrdf {
+
+// Throws InputError naming `what` (e.g. "zonal file x.exr") if a header attribute of the file at
+// `path` declares a negative size or more bytes than the file holds. Does nothing if the file
+// cannot be read or is not OpenEXR (the caller's reader says so).
+void CheckExrHeaderSizes(const std::string& path, const std::string& what);
+
+}  // namespace zbrdf

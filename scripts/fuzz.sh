@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# The fuzz stage (docs/fuzzing.md): builds the libFuzzer targets of fuzz/ with clang, ASan and
+# UBSan into build-fuzz/, then runs each on a copy of its seed corpus (fuzz/corpus/<target>/,
+# never modified) for SECONDS (default 60), two at a time. Fails naming the target and the input
+# that crashed, hung (> 10 s) or ran out of memory (> 2 GB), with the command that reproduces it.
+#   bash scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. bash scripts/fuzz.sh 600 rig_fuzz
+# Environment: ZBRDF_FUZZ_JOBS (targets at a time, 2), ZBRDF_FUZZ_BUILD_DIR (build-fuzz),
+# ZBRDF_FUZZ_SEED (libFuzzer's -seed; 0, the default, draws a new one each run; the test command
+# fixes it so that a CI run is repeatable).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+seconds=${1:-60}
+shift || true
+jobs=${ZBRDF_FUZZ_JOBS:-2}
+build=${ZBRDF_FUZZ_BUILD_DIR:-build-fuzz}
+seed=${ZBRDF_FUZZ_SEED:-0}
+if ! [[ $seconds =~ ^[0-9]+$ ]] || ((seconds < 1)); then
+  echo "fuzz: SECONDS must be a positive whole number, got '$seconds'" >&2
+  exit 2
+fi
+if ! command -v clang++ >/dev/null; then
+  echo "fuzz: clang++ not found; run scripts/setup.sh (it installs clang and libclang-rt-14-dev)" >&2
+  exit 2
+fi
+
+start=$SECONDS
+generator=()
+command -v ninja >/dev/null && [[ ! -f $build/CMakeCache.txt ]] && generator=(-G Ninja)
+cmake -S . -B "$build" "${generator[@]}" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=Release -DZBRDF_BUILD_FUZZERS=ON -DZBRDF_BUILD_TESTS=OFF \
+  -DZBRDF_BUILD_BENCH=OFF >/dev/null
+cmake --build "$build" --target zbrdf_fuzzers -j "$jobs"
+build_s=$((SECONDS - start))
+
+if (($# > 0)); then
+  targets=("$@")
+else
+  mapfile -t targets < <(grep -v '^$' "$build/fuzz/fuzz_targets.txt")
+fi
+echo "fuzz: built ${#targets[@]} targets in ${build_s} s; running each for ${seconds} s, $jobs at a time"
+
+runs="$build/fuzz/runs"
+# One target: a scratch copy of the seeds (libFuzzer adds what it finds to it), findings and the
+# log in runs/<target>/; its exit status in runs/<target>/status.
+run_target() {
+  local target=$1 dir="$runs/$1"
+  rm -rf "$dir"
+  mkdir -p "$dir/corpus" "$dir/findings"
+  if [[ -d fuzz/corpus/$target ]]; then cp -r "fuzz/corpus/$target/." "$dir/corpus/"; fi
+  local status=0
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$build/fuzz/$target" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$dir/findings/" "$dir/corpus" >"$dir/log" 2>&1 ||
+    status=$?
+  echo "$status" >"$dir/status"
+  local runs_done
+  runs_done=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log" | grep -o '[0-9]*$' || true)
+  echo "fuzz: $target: exit $status, ${runs_done:-?} inputs, corpus $(ls "$dir/corpus" | wc -l) files"
+}
+
+for target in "${targets[@]}"; do
+  if [[ ! -x $build/fuzz/$target ]]; then
+    echo "fuzz: no target '$target'; targets are the fuzz/*_fuzz.cc files" >&2
+    exit 2
+  fi
+  while (($(jobs -rp | wc -l) >= jobs)); do wait -n || true; done
+  run_target "$target" &
+done
+wait
+
+failed=0
+for target in "${targets[@]}"; do
+  dir="$runs/$target"
+  if [[ $(cat "$dir/status" 2>/dev/null || echo missing) != 0 ]]; then
+    failed=1
+    echo "fuzz: FAILED: $target (log: $dir/log)" >&2
+    grep -E 'ERROR: |SUMMARY: |terminate called|what\(\):|runtime error:' "$dir/log" | head -n 8 >&2 || true
+    for finding in "$dir"/findings/*; do
+      [[ -e $finding ]] || continue
+      echo "  input: $root/$finding" >&2
+      echo "  reproduce: $root/$build/fuzz/$target $root/$finding" >&2
+    done
+  fi
+done
+echo "fuzz: build ${build_s} s, build and run $((SECONDS - start)) s"
+if ((failed)); then
+  echo "fuzz: a reader crashed, hung or ran out of memory on an input above; fix the reader to" \
+    "throw InputError and add the input as a regression test (docs/fuzzing.md)" >&2
+  exit 1
+fi
+echo "fuzz: all ${#targets[@]} targets passed"

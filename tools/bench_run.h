@@ -1,0 +1,90 @@
+// `zbrdf bench`: capture strategies against ground truth, on the virtual rig (docs/bench.md).
+//
+// For each material, one virtual rig (its light transport is built once) runs every strategy:
+// fixed plans (each order x each bracket size) and adaptive captures (acquisition/adaptive.h) with
+// each order as the largest allowed. For each capture:
+//   capture_time_s     on the rig's timing model (the virtual rig's clock: metering, projector
+//                      settle, per frame max(frame period, exposure + readout))
+//   processing_s       measured: HDR merge and zonal extraction; sh_s, fit_s the SH conversion
+//                      and the D-BRDF fit (tools/sh_conversion.h, tools/fit_session.h)
+//   coefficient_error  in-zone relative L2 of z_k(w_r) against the true coefficients up to the
+//                      strategy's order (bands an adaptive capture did not take count as zero);
+//                      coefficient_error_common the same up to the bench's largest order, the
+//                      error comparable across strategies (the plot's)
+//   sh_error_cosine_l2, sh_error_in_zone   the SH conversion against the material (cosine-
+//                      weighted L2 over the full hemisphere, and over the zone)
+//   dbrdf_error_cosine_l2   the D-BRDF fit against the material
+//   ball_rmse          RMSE of a rendered ball (directional light) of the D-BRDF fit against the
+//                      material's, relative to the RMS of the material's ball
+// An adaptive capture that kept no band above 1 (nothing glossy above its floor) skips the D-BRDF
+// fit (its error and ball are then null): the processing it does not need.
+// Before the materials the rig's systematic floor is measured on a Lambertian target
+// (FloorProfile; DIR/floor.json), and adaptive captures use it.
+// Results: DIR/bench.json ({"rows", "summary", "floor", ...}), DIR/bench.csv (one row per
+// capture), DIR/bench.png (error against capture time per material, Pareto front drawn).
+// Same options and seed: same errors (frames, truth and metrics are seeded, and no result depends
+// on thread timing).
+#pragma once
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "acquisition/adaptive.h"
+#include "basis/progress.h"
+
+namespace zbrdf {
+
+// 12 MERL materials from diffuse to mirror-like.
+std::vector<std::string> DefaultBenchMaterials();
+
+struct BenchStrategy {
+  std::string name;  // "fixed-L8-x3", "adaptive-L8"
+  bool adaptive = false;
+  int order = 4;      // fixed: the order; adaptive: the largest order
+  int exposures = 3;  // fixed: the bracket size (2 f-stops apart)
+};
+
+struct BenchOptions {
+  std::string rig_path;
+  std::string preset = "fast";
+  std::string out_dir;
+  std::vector<std::string> materials;  // empty: DefaultBenchMaterials()
+  std::vector<int> orders{4, 6, 8, 10};
+  std::vector<int> exposures{3, 1};  // bracket sizes of the fixed strategies
+  bool adaptive = true;
+  AdaptiveOptions adaptive_options;  // enabled is set per strategy
+  bool measure_floor = true;         // the Lambertian floor capture (else no floor profile)
+  uint64_t seed = 1;
+  int truth_samples = 1024;  // GroundTruthOptions::samples
+  bool fit = true;           // D-BRDF fits and balls
+  int ball_size = 64;
+  int parallel_materials = 2;
+  bool keep_frames = false;  // else each session's frames/ is deleted once processed
+  ProgressCallback progress;
+  const std::atomic<bool>* interrupt = nullptr;
+};
+
+std::vector<BenchStrategy> BenchStrategies(const BenchOptions& options);
+
+struct BenchSummary {
+  nlohmann::json table;  // what bench.json holds
+  bool interrupted = false;
+  int failed = 0;
+};
+
+// Throws InputError for bad options.
+BenchSummary RunBench(const BenchOptions& options);
+
+// Fixed (3 exposures by default: the thesis's) vs adaptive per order and material, from rows:
+// {"pairs": [{material, order, fixed_time_s, adaptive_time_s, saving, fixed_error,
+// adaptive_error}], "mean_saving", "same_error_pairs", "target_met"}. An adaptive capture has the
+// "same error" when its coefficient error is at most the fixed one's times (1 + tolerance).
+nlohmann::json CompareFixedAdaptive(const nlohmann::json& rows, int fixed_exposures = 3,
+                                    double tolerance = 0.05);
+
+// Error against capture time, one panel per material, Pareto fronts drawn (OpenCV PNG).
+void WriteBenchPlot(const nlohmann::json& rows, const std::string& path);
+
+}  // namespace zbrdf
