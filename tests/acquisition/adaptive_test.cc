@@ -18,6 +18,7 @@
 #include "basis/spherical_harmonics.h"
 #include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
+#include "tests/acquisition/acquisition_test_util.h"
 #include "tests/simulate/simulate_test_util.h"
 
 namespace zbrdf {
@@ -164,41 +165,13 @@ TEST(Adaptive, TruncatedPlanKeepsFrameIndices) {
   EXPECT_EQ(round.ToJson(), AdaptiveOptions().ToJson());
 }
 
-std::string TempDir(const std::string& name) {
-  std::string leaf = "zbrdf-adaptive-test-";
-  leaf += std::to_string(::getpid());
-  leaf += "-";
-  leaf += name;
-  const std::string dir = (fs::temp_directory_path() / leaf).string();
-  fs::remove_all(dir);
-  return dir;
-}
+using Rigged = testing::SimulatedRig;
 
-struct Rigged {
-  Rig rig = ApplyPreset(LoadRig(testing::SourceRig("thesis.yaml")), Preset::kFast);
-  std::unique_ptr<VirtualRig> virtual_rig;
-  RigCalibration calibration;
-  explicit Rigged(const std::string& material) {
-    VirtualRig::Options o;
-    o.seed = 1;
-    o.cache_dir = testing::TestCacheDir();
-    virtual_rig = std::make_unique<VirtualRig>(rig, MakeBrdf(material), o);
-    calibration = NominalCalibration(virtual_rig->rig(), virtual_rig->maps());
-  }
-  // Returns the rig time of the capture.
-  CaptureJobResult Run(CaptureJobOptions options, double* seconds = nullptr) {
-    options.pattern_cache_dir = testing::TestCacheDir();
-    options.processing.write_hdr_images = false;
-    const int64_t start = virtual_rig->clock().NowUs();
-    CaptureJobResult r = RunCaptureJob(virtual_rig->rig(), calibration, virtual_rig->camera(),
-                                       virtual_rig->projector(), virtual_rig->clock(), options);
-    if (seconds) *seconds = (virtual_rig->clock().NowUs() - start) * 1e-6;
-    return r;
-  }
-};
+std::string TempDir(const std::string& name) { return testing::FreshTempDir("adaptive-test", name); }
 
 CaptureJobOptions Job(const std::string& dir, int order, bool adaptive) {
   CaptureJobOptions o;
+  o.processing.write_hdr_images = false;
   o.out_dir = dir;
   o.order = order;
   o.adaptive.enabled = adaptive;

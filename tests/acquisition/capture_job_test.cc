@@ -13,43 +13,16 @@
 #include "basis/error.h"
 #include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
+#include "tests/acquisition/acquisition_test_util.h"
 #include "tests/simulate/simulate_test_util.h"
 
 namespace zbrdf {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::SimulatedRig;
 
-std::string TempDir(const std::string& name) {
-  std::string leaf = "zbrdf-capture-test-";
-  leaf += std::to_string(::getpid());
-  leaf += "-";
-  leaf += name;
-  const std::string dir = (fs::temp_directory_path() / leaf).string();
-  fs::remove_all(dir);
-  return dir;
-}
-
-struct SimulatedRig {
-  Rig rig = ApplyPreset(LoadRig(testing::SourceRig("thesis.yaml")), Preset::kFast);
-  std::unique_ptr<VirtualRig> virtual_rig;
-  RigCalibration calibration;
-
-  SimulatedRig(const std::string& material, bool noise) {
-    VirtualRig::Options o;
-    o.seed = 1;
-    o.noise = noise;
-    o.cache_dir = testing::TestCacheDir();
-    virtual_rig = std::make_unique<VirtualRig>(rig, MakeBrdf(material), o);
-    calibration = NominalCalibration(virtual_rig->rig(), virtual_rig->maps());
-  }
-  CaptureJobResult Run(CaptureJobOptions options) {
-    options.pattern_cache_dir = testing::TestCacheDir();
-    return RunCaptureJob(virtual_rig->rig(), calibration, virtual_rig->camera(),
-                         virtual_rig->projector(), virtual_rig->clock(), options);
-  }
-  Camera& camera() { return virtual_rig->camera(); }
-};
+std::string TempDir(const std::string& name) { return testing::FreshTempDir("capture-test", name); }
 
 CaptureJobOptions Job(const std::string& dir, int order) {
   CaptureJobOptions o;

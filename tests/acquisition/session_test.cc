@@ -6,21 +6,14 @@
 #include <gtest/gtest.h>
 
 #include "basis/error.h"
+#include "tests/acquisition/acquisition_test_util.h"
 
 namespace zbrdf {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string TempDir(const std::string& name) {
-  std::string leaf = "zbrdf-session-test-";
-  leaf += std::to_string(::getpid());
-  leaf += "-";
-  leaf += name;
-  const std::string dir = (fs::temp_directory_path() / leaf).string();
-  fs::remove_all(dir);
-  return dir;
-}
+std::string TempDir(const std::string& name) { return testing::FreshTempDir("session-test", name); }
 
 Frame SmallFrame(uint16_t base) {
   Frame f;

@@ -29,9 +29,9 @@ class Rng {
   std::mt19937_64 engine_;
 };
 
-// Uniform direction on the upper hemisphere, z in (0, 1].
-inline Vec3 RandomUpperDirection(Rng& rng) {
-  const double z = 1.0 - rng.Uniform();
+// Uniform direction on the upper hemisphere, z in (z_min, 1].
+inline Vec3 RandomUpperDirection(Rng& rng, double z_min = 0.0) {
+  const double z = z_min + (1.0 - z_min) * (1.0 - rng.Uniform());
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
   const double phi = 2.0 * M_PI * rng.Uniform();
   return {r * std::cos(phi), r * std::sin(phi), z};

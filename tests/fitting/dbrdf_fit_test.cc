@@ -17,20 +17,7 @@ const Zone kZone = Zone::FromDegrees(11.3, 54.9);  // the thesis rig at the fast
 constexpr int kOrder = 8;
 
 DBrdfParams GgxShapedDBrdf(double alpha_x, double alpha_y, int theta_samples, int phi_samples) {
-  const GgxBrdf ggx(alpha_x, alpha_y, Rgb(0.5), Rgb(0.0));
-  DBrdfParams params;
-  params.p_h.theta_samples = theta_samples;
-  params.p_h.phi_samples = phi_samples;
-  for (int j = 0; j < theta_samples; ++j) {
-    for (int k = 0; k < phi_samples; ++k) {
-      params.p_h.p.push_back(ggx.D(SphericalDirection(j * 0.5 * M_PI / (theta_samples - 1), k * 2 * M_PI / phi_samples)));
-    }
-  }
-  params.p_h.Normalize();
-  params.c = Rgb(0.6, 0.7, 0.8);
-  params.f0 = 0.5;
-  params.kd = Rgb(0.1, 0.2, 0.3);
-  return params;
+  return testing::GgxShapedDBrdf(alpha_x, alpha_y, theta_samples, phi_samples, Rgb(0.6, 0.7, 0.8), 0.5, Rgb(0.1, 0.2, 0.3));
 }
 
 // One fitter (quadrature and 1-D projection) for the whole binary.

@@ -18,20 +18,7 @@ const Zone kZone = Zone::FromDegrees(11.3, 54.9);  // the thesis rig at the fast
 double RelativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / b.norm(); }
 
 DBrdfParams GgxShapedDBrdf(double alpha_x, double alpha_y, int theta_samples, int phi_samples) {
-  const GgxBrdf ggx(alpha_x, alpha_y, Rgb(0.5), Rgb(0.0));
-  DBrdfParams params;
-  params.p_h.theta_samples = theta_samples;
-  params.p_h.phi_samples = phi_samples;
-  for (int j = 0; j < theta_samples; ++j) {
-    for (int k = 0; k < phi_samples; ++k) {
-      params.p_h.p.push_back(ggx.D(SphericalDirection(j * 0.5 * M_PI / (theta_samples - 1), k * 2 * M_PI / phi_samples)));
-    }
-  }
-  params.p_h.Normalize();
-  params.c = Rgb(0.7, 0.8, 0.9);
-  params.f0 = 0.3;
-  params.kd = Rgb(0.2, 0.1, 0.05);
-  return params;
+  return testing::GgxShapedDBrdf(alpha_x, alpha_y, theta_samples, phi_samples, Rgb(0.7, 0.8, 0.9), 0.3, Rgb(0.2, 0.1, 0.05));
 }
 
 TEST(PairQuadratureTest, LambertianMatchesTheSeparableProjection) {

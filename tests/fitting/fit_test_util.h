@@ -12,7 +12,9 @@
 #include "basis/quadrature.h"
 #include "basis/zonal_basis.h"
 #include "fitting/brdf.h"
+#include "fitting/dbrdf.h"
 #include "fitting/fit_data.h"
+#include "fitting/ggx.h"
 
 namespace zbrdf::testing {
 
@@ -67,6 +69,27 @@ inline ZonalTensor SyntheticData(const std::array<Eigen::MatrixXd, 3>& tensor, c
     }
   }
   return data;
+}
+
+// A D-BRDF whose p(h) is GGX's D (alpha_x, alpha_y) tabulated on theta_samples x phi_samples
+// nodes and normalized, with the given colours.
+inline DBrdfParams GgxShapedDBrdf(double alpha_x, double alpha_y, int theta_samples, int phi_samples,
+                                  const Rgb& c, double f0, const Rgb& kd) {
+  const GgxBrdf ggx(alpha_x, alpha_y, Rgb(0.5), Rgb(0.0));
+  DBrdfParams params;
+  params.p_h.theta_samples = theta_samples;
+  params.p_h.phi_samples = phi_samples;
+  for (int j = 0; j < theta_samples; ++j) {
+    for (int k = 0; k < phi_samples; ++k) {
+      params.p_h.p.push_back(
+          ggx.D(SphericalDirection(j * 0.5 * M_PI / (theta_samples - 1), k * 2 * M_PI / phi_samples)));
+    }
+  }
+  params.p_h.Normalize();
+  params.c = c;
+  params.f0 = f0;
+  params.kd = kd;
+  return params;
 }
 
 }  // namespace zbrdf::testing

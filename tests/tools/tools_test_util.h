@@ -14,25 +14,11 @@
 #include <string>
 
 #include "basis/vec3.h"
+#include "tests/fitting/brdf_checks.h"
 
 namespace zbrdf::testing {
 
-class Rng {
- public:
-  explicit Rng(uint64_t seed) : engine_(seed) {}
-  double Uniform() { return static_cast<double>(engine_() >> 11) * 0x1p-53; }
-
- private:
-  std::mt19937_64 engine_;
-};
-
-// Uniform on the upper hemisphere, z in [z_min, 1].
-inline Vec3 RandomUpperDirection(Rng& rng, double z_min = 0.0) {
-  const double z = z_min + (1.0 - z_min) * (1.0 - rng.Uniform());
-  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-  const double phi = 2.0 * M_PI * rng.Uniform();
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
+// Rng and RandomUpperDirection come from tests/fitting/brdf_checks.h.
 
 // A fresh folder under the temp directory, removed by the destructor.
 class TempDir {
