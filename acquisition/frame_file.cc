@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <string_view>
 
 #include <opencv2/imgcodecs.hpp>
 #include <tiffio.h>
@@ -56,7 +57,16 @@ std::string EncodeFrameFile(const Frame& frame) {
 std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int height,
                                       const std::string& what) {
   cv::Mat image;
-  if (!bytes.empty() && bytes.size() < (1u << 31)) {
+  // Only the formats frames are written in (TIFF, and PNG from earlier versions) reach the
+  // decoder: cv::imdecode would otherwise try every codec it has, and some (GDCM's DICOM reader)
+  // abort on damaged input instead of failing (found by fuzz/frame_file_fuzz).
+  const auto starts_with = [&bytes](std::string_view magic) {
+    return bytes.size() >= magic.size() && std::string_view(bytes).substr(0, magic.size()) == magic;
+  };
+  const bool known_format = starts_with(std::string_view("II*\0", 4)) ||
+                            starts_with(std::string_view("MM\0*", 4)) ||
+                            starts_with("\x89PNG\r\n\x1a\n");
+  if (known_format && bytes.size() < (1u << 31)) {
     try {
       image = cv::imdecode(
           cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "acquisition/json_integer.h"
 #include "basis/error.h"
 
 namespace zbrdf {
@@ -50,9 +51,9 @@ CapturePlan CapturePlan::FromJson(const nlohmann::json& j) {
     plan.theta_min_rad = zone.at(0).get<double>();
     plan.theta_max_rad = zone.at(1).get<double>();
     Zone(plan.theta_min_rad, plan.theta_max_rad);  // validates
-    plan.order = j.at("order").get<int>();
+    plan.order = JsonIntegerAt<int>(j, "order", "capture plan");
     plan.exposures_us = j.at("exposures_us").get<std::vector<double>>();
-    plan.repeats = j.at("repeats").get<int>();
+    plan.repeats = JsonIntegerAt<int>(j, "repeats", "capture plan");
     for (const auto& name_json : j.at("lobes")) {
       const std::string name = name_json.get<std::string>();
       PlannedLobe lobe;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "acquisition/frame_file.h"
+#include "acquisition/json_integer.h"
 #include "basis/error.h"
 #include "basis/hash.h"
 
@@ -99,20 +100,20 @@ nlohmann::json JournalEntry::ToJson() const {
 
 JournalEntry JournalEntry::FromJson(const nlohmann::json& j) {
   JournalEntry e;
-  e.index = j.at("index").get<int>();
+  e.index = JsonIntegerAt<int>(j, "index", "journal entry");
   e.lobe = j.at("lobe").get<std::string>();
-  e.exposure = j.at("exposure").get<int>();
-  e.repeat = j.at("repeat").get<int>();
+  e.exposure = JsonIntegerAt<int>(j, "exposure", "journal entry");
+  e.repeat = JsonIntegerAt<int>(j, "repeat", "journal entry");
   e.exposure_us_requested = j.at("exposure_us_requested").get<double>();
   e.exposure_us = j.at("exposure_us").get<double>();
-  e.frame_id = j.at("frame_id").get<uint64_t>();
-  e.timestamp_us = j.at("timestamp_us").get<int64_t>();
+  e.frame_id = JsonIntegerAt<uint64_t>(j, "frame_id", "journal entry");
+  e.timestamp_us = JsonIntegerAt<int64_t>(j, "timestamp_us", "journal entry");
   e.wall_time = j.at("wall_time").get<std::string>();
   e.file = j.at("file").get<std::string>();
   e.checksum = j.at("checksum").get<std::string>();
-  e.width = j.at("width").get<int>();
-  e.height = j.at("height").get<int>();
-  e.bit_depth = j.at("bit_depth").get<int>();
+  e.width = JsonIntegerAt<int>(j, "width", "journal entry");
+  e.height = JsonIntegerAt<int>(j, "height", "journal entry");
+  e.bit_depth = JsonIntegerAt<int>(j, "bit_depth", "journal entry");
   e.layout = j.at("layout").get<std::string>();
   if (e.index < 0 || e.width <= 0 || e.height <= 0 || e.bit_depth < 1 || e.bit_depth > 16 ||
       !(e.exposure_us > 0) || e.file.find("..") != std::string::npos) {

@@ -54,8 +54,19 @@ ExitantGrid MakeExitantGrid(const Zone& zone, double theta_step_deg, double phi_
   g.theta_min_rad = zone.theta_min_rad();
   g.theta_max_rad = zone.theta_max_rad();
   g.theta_step_rad = DegToRad(theta_step_deg);
-  g.n_theta = static_cast<int>(std::ceil((g.theta_max_rad - g.theta_min_rad) / g.theta_step_rad - 1e-9));
-  g.n_phi = static_cast<int>(std::lround(360.0 / phi_step_deg));
+  // Counted in double first: a damaged file's tiny step would overflow an int (fuzz/zonal_exr_fuzz).
+  const double rows = std::ceil((g.theta_max_rad - g.theta_min_rad) / g.theta_step_rad - 1e-9);
+  const double columns = std::round(360.0 / phi_step_deg);
+  if (!(rows <= 1e5 && columns <= 1e5)) {
+    std::string message = "exitant grid steps of ";
+    message += std::to_string(theta_step_deg);
+    message += " and ";
+    message += std::to_string(phi_step_deg);
+    message += " deg give an absurdly fine grid (more than 1e5 rows or columns)";
+    throw InputError(message);
+  }
+  g.n_theta = static_cast<int>(rows);
+  g.n_phi = static_cast<int>(columns);
   g.phi_step_rad = 2 * M_PI / g.n_phi;
   if (g.n_theta < 1) throw InputError("zone narrower than one theta step of the exitant grid");
   return g;

@@ -78,6 +78,12 @@ TEST(FrameFile, GarbageTruncationAndWrongSizeAreInputErrors) {
   EXPECT_THROW(DecodeFrameFile("this is not an image", 64, 64, "text"), InputError);
   EXPECT_THROW(DecodeFrameFile(bytes.substr(0, 100), 64, 64, "truncated"), InputError);
   EXPECT_THROW(DecodeFrameFile(bytes, 32, 64, "wrong size"), InputError);
+  // Bytes of another format OpenCV knows, here with a DICOM tag: GDCM's reader asserts (aborts)
+  // on them, so they must not reach cv::imdecode (fuzz corpus regression-dicom-magic-aborts-gdcm).
+  std::string dicom(132, '\0');
+  dicom += "DICM";
+  dicom += std::string("\x02\x00\x00\x00OB\xff\xff\x1d\x63", 12);
+  EXPECT_THROW(DecodeFrameFile(dicom, 64, 64, "dicom"), InputError);
   try {
     DecodeFrameFile(bytes, 32, 64, "frame f000007.tiff");
     FAIL();

@@ -86,6 +86,15 @@ TEST(Plan, DamagedJsonIsAnInputError) {
   j = MakePlan(Options(2)).ToJson();
   j["exposures_us"][0] = -5.0;
   EXPECT_THROW(CapturePlan::FromJson(j), InputError);
+  // A float where an integer belongs: nlohmann's get<int>() would convert 1e102 with undefined
+  // behaviour (fuzz corpus regression-order-1e102); integral floats are read as integers.
+  j = MakePlan(Options(2)).ToJson();
+  j["order"] = 1e102;
+  EXPECT_THROW(CapturePlan::FromJson(j), InputError);
+  j["order"] = 2.5;
+  EXPECT_THROW(CapturePlan::FromJson(j), InputError);
+  j["order"] = 2.0;
+  EXPECT_EQ(CapturePlan::FromJson(j).order, 2);
 }
 
 TEST(Plan, AbsurdOptionsAreRejected) {

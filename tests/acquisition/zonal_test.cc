@@ -47,6 +47,9 @@ TEST(ExitantGrid, AbsurdStepsAreRejected) {
   EXPECT_THROW(MakeExitantGrid(kZone, 0, 2), InputError);
   EXPECT_THROW(MakeExitantGrid(kZone, 1, 45), InputError);
   EXPECT_THROW(MakeExitantGrid(kZone, std::nan(""), 2), InputError);
+  // A damaged file's tiny step (fuzz corpus regression-tiny-exitant-step.exr): no int overflow.
+  EXPECT_THROW(MakeExitantGrid(kZone, 1e-20, 2), InputError);
+  EXPECT_THROW(MakeExitantGrid(kZone, 1, 1e-20), InputError);
 }
 
 TEST(CellIntegrals, MatchAFinerQuadratureAndCellAveragingBlursLittle) {

@@ -3,6 +3,7 @@
 #include "tools/fit_session.h"
 
 #include <filesystem>
+#include <ostream>
 
 #include <gtest/gtest.h>
 
@@ -33,6 +34,9 @@ struct GgxCase {
   Rgb f0, kd;
   double kd_tolerance = 0.02;  // relative
 };
+
+// What CTest shows next to the test's name (the default prints the object's bytes).
+void PrintTo(const GgxCase& c, std::ostream* os) { *os << c.spec; }
 
 class GgxGroundTruthTest : public ::testing::TestWithParam<GgxCase> {};
 
