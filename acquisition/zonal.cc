@@ -463,6 +463,7 @@ ZonalData ReadZonalExr(const std::string& path) {
     data.grid = MakeExitantGrid(zone, RadToDeg(get_double("zbrdf.theta_step_rad")),
                                 RadToDeg(get_double("zbrdf.phi_step_rad")));
     const Imath::Box2i window = h.dataWindow();
+    RequireWindowAtOrigin(window.min.x, window.min.y, window.max.x, window.max.y, path, "grid");
     if (window.max.x - window.min.x + 1 != data.grid.n_phi ||
         window.max.y - window.min.y + 1 != data.grid.n_theta) {
       throw InputError(path + ": grid part is not n_phi x n_theta as its header says");
@@ -506,6 +507,7 @@ ZonalData ReadZonalExr(const std::string& path) {
     }
     const Imf::Header& th = file.header(tensor_part);
     const Imath::Box2i tw = th.dataWindow();
+    RequireWindowAtOrigin(tw.min.x, tw.min.y, tw.max.x, tw.max.y, path, "tensor");
     if (tw.max.x - tw.min.x + 1 != n || tw.max.y - tw.min.y + 1 != n) {
       throw InputError(path + ": tensor part is not n x n for order " + std::to_string(data.order));
     }

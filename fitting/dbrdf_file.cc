@@ -91,6 +91,8 @@ Contents ReadContents(const std::string& path) {
       }
     }
     const Imath::Box2i window = h.dataWindow();
+    RequireWindowAtOrigin(window.min.x, window.min.y, window.max.x, window.max.y,
+                          "D-BRDF file " + path, "p table");
     const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
     if (!h.channels().findChannel("p")) throw InputError(path + ": channel p is missing");
     std::vector<float> p(static_cast<size_t>(width) * height);

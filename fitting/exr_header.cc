@@ -148,4 +148,18 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
   }
 }
 
+void RequireWindowAtOrigin(int min_x, int min_y, int max_x, int max_y, const std::string& what,
+                           const std::string& part) {
+  if (min_x != 0 || min_y != 0 || max_x < 0 || max_y < 0) {
+    std::string message = what;
+    message += ": the ";
+    message += part;
+    message += " part's data window [";
+    message += std::to_string(min_x) + ", " + std::to_string(min_y) + "] - [";
+    message += std::to_string(max_x) + ", " + std::to_string(max_y);
+    message += "] does not start at (0, 0) as zbrdf writes it; the file is damaged or not ours";
+    throw InputError(message);
+  }
+}
+
 }  // namespace zbrdf

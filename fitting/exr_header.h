@@ -19,4 +19,11 @@ namespace zbrdf {
 // cannot be read or is not OpenEXR (the caller's reader says so).
 void CheckExrHeaderSizes(const std::string& path, const std::string& what);
 
+// Throws InputError naming `what` and the part unless the data window starts at (0, 0) and is
+// at least one pixel: zbrdf writes its files so, and the readers' frame buffers assume it (an
+// offset window makes the usual base-pointer arithmetic point outside the buffer, which is
+// undefined behaviour; found by fuzz/dbrdf_file_fuzz).
+void RequireWindowAtOrigin(int min_x, int min_y, int max_x, int max_y, const std::string& what,
+                           const std::string& part);
+
 }  // namespace zbrdf

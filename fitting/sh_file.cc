@@ -202,6 +202,7 @@ ShBrdfData ReadShFile(const std::string& path) {
     };
     // Tensor.
     const Imath::Box2i tw = h.dataWindow();
+    RequireWindowAtOrigin(tw.min.x, tw.min.y, tw.max.x, tw.max.y, path, "tensor");
     if (tw.max.x - tw.min.x + 1 != n || tw.max.y - tw.min.y + 1 != n) {
       throw InputError(path + ": the tensor part is not " + std::to_string(n) + " x " +
                        std::to_string(n) + " for " + target->value() + " order " +
@@ -229,6 +230,7 @@ ShBrdfData ReadShFile(const std::string& path) {
     // Per-exitant tables.
     const Imf::Header& eh = file.header(exitant_part);
     const Imath::Box2i ew = eh.dataWindow();
+    RequireWindowAtOrigin(ew.min.x, ew.min.y, ew.max.x, ew.max.y, path, "exitant");
     data.exitant_phi = ew.max.x - ew.min.x + 1;
     data.exitant_theta = ew.max.y - ew.min.y + 1;
     const int width = data.exitant_phi;

@@ -5,8 +5,9 @@
 # that crashed, hung (> 10 s) or ran out of memory (> 2 GB), with the command that reproduces it.
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. bash scripts/fuzz.sh 600 rig_fuzz
 # Environment: ZBRDF_FUZZ_JOBS (targets at a time, 2), ZBRDF_FUZZ_BUILD_DIR (build-fuzz),
-# ZBRDF_FUZZ_SEED (libFuzzer's -seed; 0, the default, draws a new one each run; the test command
-# fixes it so that a CI run is repeatable).
+# ZBRDF_FUZZ_SEED (libFuzzer's -seed; 0, the default, draws a new one each run),
+# ZBRDF_FUZZ_RUNS_FILE (lines "target count": run that many inputs instead of SECONDS, stopping
+# after 2 x SECONDS at the latest. The test command uses fuzz/ci_runs.txt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -15,6 +16,11 @@ shift || true
 jobs=${ZBRDF_FUZZ_JOBS:-2}
 build=${ZBRDF_FUZZ_BUILD_DIR:-build-fuzz}
 seed=${ZBRDF_FUZZ_SEED:-0}
+runs_file=${ZBRDF_FUZZ_RUNS_FILE:-}
+if [[ -n $runs_file && ! -f $runs_file ]]; then
+  echo "fuzz: ZBRDF_FUZZ_RUNS_FILE $runs_file does not exist" >&2
+  exit 2
+fi
 if ! [[ $seconds =~ ^[0-9]+$ ]] || ((seconds < 1)); then
   echo "fuzz: SECONDS must be a positive whole number, got '$seconds'" >&2
   exit 2
@@ -38,7 +44,11 @@ if (($# > 0)); then
 else
   mapfile -t targets < <(grep -v '^$' "$build/fuzz/fuzz_targets.txt")
 fi
-echo "fuzz: built ${#targets[@]} targets in ${build_s} s; running each for ${seconds} s, $jobs at a time"
+if [[ -n $runs_file ]]; then
+  echo "fuzz: built ${#targets[@]} targets in ${build_s} s; running each for the input count in $runs_file (at most $((2 * seconds)) s), seed $seed, $jobs at a time"
+else
+  echo "fuzz: built ${#targets[@]} targets in ${build_s} s; running each for ${seconds} s, seed $seed, $jobs at a time"
+fi
 
 runs="$build/fuzz/runs"
 # One target: a scratch copy of the seeds (libFuzzer adds what it finds to it), findings and the
@@ -48,9 +58,19 @@ run_target() {
   rm -rf "$dir"
   mkdir -p "$dir/corpus" "$dir/findings"
   if [[ -d fuzz/corpus/$target ]]; then cp -r "fuzz/corpus/$target/." "$dir/corpus/"; fi
-  local status=0
+  local status=0 budget=(-max_total_time="$seconds")
+  if [[ -n $runs_file ]]; then
+    local count
+    count=$(awk -v t="$target" '$1 == t { print $2 }' "$runs_file")
+    if [[ -z $count ]]; then
+      echo "fuzz: $target has no line in $runs_file; add one ('$target COUNT')" >&2
+      echo 2 >"$dir/status"
+      return
+    fi
+    budget=(-runs="$count" -max_total_time=$((2 * seconds)))
+  fi
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$build/fuzz/$target" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 \
+    "$build/fuzz/$target" "${budget[@]}" -seed="$seed" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$dir/findings/" "$dir/corpus" >"$dir/log" 2>&1 ||
     status=$?
   echo "$status" >"$dir/status"

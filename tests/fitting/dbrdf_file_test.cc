@@ -68,5 +68,18 @@ TEST(DBrdfFileTest, RejectsFilesThatAreNotDBrdfFiles) {
   EXPECT_THROW(WriteDBrdfFile("/nonexistent-folder/x.exr", MakeModel(3, 1), {}), InputError);
 }
 
+// Found by fuzz/dbrdf_file_fuzz: a data window off the origin made the frame buffer's base pointer
+// point before the table (undefined behaviour). Such files are rejected by name.
+TEST(DBrdfFileTest, ADataWindowOffTheOriginIsAnInputError) {
+  const std::string fuzzed = ZBRDF_TEST_DATA_DIR "/fuzz/dbrdf-window-off-origin.exr";
+  try {
+    ReadDBrdfFile(fuzzed);
+    FAIL() << "read a file whose data window is off the origin";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fuzzed), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("does not start at (0, 0)"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace zbrdf
