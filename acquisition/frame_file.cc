@@ -54,6 +54,41 @@ std::string EncodeFrameFile(const Frame& frame) {
   return stream.str();
 }
 
+namespace {
+
+// Whether a TIFF's first directory describes the expected frame: width x height, one 16-bit
+// sample per pixel, in strips. Checked with libtiff before any pixel buffer is allocated: a few
+// damaged header bytes can otherwise declare gigabytes (found by fuzz/frame_file_fuzz).
+bool TiffDescribesFrame(const std::string& bytes, int width, int height) {
+  std::istringstream in(bytes);
+  TIFF* tiff = TIFFStreamOpen("frame", static_cast<std::istream*>(&in));
+  if (tiff == nullptr) return false;
+  uint32_t w = 0, h = 0;
+  uint16_t bits = 0, samples = 0;
+  const bool ok = TIFFGetField(tiff, TIFFTAG_IMAGEWIDTH, &w) == 1 &&
+                  TIFFGetField(tiff, TIFFTAG_IMAGELENGTH, &h) == 1 &&
+                  TIFFGetFieldDefaulted(tiff, TIFFTAG_BITSPERSAMPLE, &bits) == 1 &&
+                  TIFFGetFieldDefaulted(tiff, TIFFTAG_SAMPLESPERPIXEL, &samples) == 1 &&
+                  w == static_cast<uint32_t>(width) && h == static_cast<uint32_t>(height) &&
+                  bits == 16 && samples == 1 && !TIFFIsTiled(tiff);
+  TIFFClose(tiff);
+  return ok;
+}
+
+// The same for a PNG, from its IHDR chunk: width, height, bit depth 16, colour type 0 (gray).
+bool PngDescribesFrame(const std::string& bytes, int width, int height) {
+  if (bytes.size() < 26 || bytes.compare(12, 4, "IHDR") != 0) return false;
+  const auto be32 = [&bytes](size_t at) {
+    uint32_t v = 0;
+    for (size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+    return v;
+  };
+  return be32(16) == static_cast<uint32_t>(width) && be32(20) == static_cast<uint32_t>(height) &&
+         static_cast<unsigned char>(bytes[24]) == 16 && bytes[25] == 0;
+}
+
+}  // namespace
+
 std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int height,
                                       const std::string& what) {
   cv::Mat image;
@@ -63,10 +98,12 @@ std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int h
   const auto starts_with = [&bytes](std::string_view magic) {
     return bytes.size() >= magic.size() && std::string_view(bytes).substr(0, magic.size()) == magic;
   };
-  const bool known_format = starts_with(std::string_view("II*\0", 4)) ||
-                            starts_with(std::string_view("MM\0*", 4)) ||
-                            starts_with("\x89PNG\r\n\x1a\n");
-  if (known_format && bytes.size() < (1u << 31)) {
+  const bool tiff = starts_with(std::string_view("II*\0", 4)) || starts_with(std::string_view("MM\0*", 4));
+  const bool png = starts_with("\x89PNG\r\n\x1a\n");
+  const bool expected = width > 0 && height > 0 &&
+                        ((tiff && TiffDescribesFrame(bytes, width, height)) ||
+                         (png && PngDescribesFrame(bytes, width, height)));
+  if (expected && bytes.size() < (1u << 31)) {
     try {
       image = cv::imdecode(
           cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),

@@ -1,5 +1,7 @@
 #include "acquisition/frame_file.h"
 
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -84,6 +86,12 @@ TEST(FrameFile, GarbageTruncationAndWrongSizeAreInputErrors) {
   dicom += "DICM";
   dicom += std::string("\x02\x00\x00\x00OB\xff\xff\x1d\x63", 12);
   EXPECT_THROW(DecodeFrameFile(dicom, 64, 64, "dicom"), InputError);
+  // A damaged TIFF header made OpenCV allocate 3.9 GB (fuzz corpus
+  // regression-strip-allocates-gigabytes): the header is checked against the journal's size first.
+  std::ifstream damaged(ZBRDF_TEST_DATA_DIR "/fuzz/frame-allocates-gigabytes.tiff", std::ios::binary);
+  ASSERT_TRUE(damaged.good());
+  const std::string damaged_bytes((std::istreambuf_iterator<char>(damaged)), std::istreambuf_iterator<char>());
+  EXPECT_THROW(DecodeFrameFile(damaged_bytes, 16, 12, "damaged"), InputError);
   try {
     DecodeFrameFile(bytes, 32, 64, "frame f000007.tiff");
     FAIL();
