@@ -9,19 +9,12 @@
 #include "calibration/calibrate.h"
 #include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
+#include "tests/acquisition/acquisition_test_util.h"
 #include "tests/simulate/simulate_test_util.h"
 
 namespace zbrdf::testing {
 
-inline std::string TempFolder(const std::string& name) {
-  std::string leaf = "zbrdf-calibration-test-";
-  leaf += std::to_string(::getpid());
-  leaf += "-";
-  leaf += name;
-  const std::string dir = (std::filesystem::temp_directory_path() / leaf).string();
-  std::filesystem::remove_all(dir);
-  return dir;
-}
+inline std::string TempFolder(const std::string& name) { return FreshTempDir("calibration-test", name); }
 
 struct SimulatedCalibrationRig {
   Rig design = ApplyPreset(LoadRig(SourceRig("thesis.yaml")), Preset::kFast);
