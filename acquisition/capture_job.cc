@@ -10,7 +10,7 @@
 #include <set>
 
 #include "basis/error.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 namespace zbrdf {
 

@@ -22,7 +22,7 @@
 #include "drivers/camera.h"
 #include "drivers/clock.h"
 #include "drivers/projector.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

@@ -18,7 +18,7 @@
 #include "basis/hash.h"
 #include "basis/parallel.h"
 #include "basis/zonal_basis.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 namespace zbrdf {
 

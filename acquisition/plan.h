@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "basis/zone.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

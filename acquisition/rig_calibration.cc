@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "basis/error.h"
-#include "simulate/imaging.h"
-#include "simulate/optics.h"
+#include "rig/optics.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

@@ -3,9 +3,9 @@
 // numbers.
 //
 // NominalCalibration() derives all of it from the rig description (ray-traced direction maps,
-// the nominal radiometry of simulate/imaging.h); calibration/ measures it on a real (or
-// injected-fault) rig and saves it to a calibration folder that sessions reference. Processing
-// never needs to know which of the two it has.
+// the nominal radiometry of rig/rig.h, which the simulator renders with); calibration/
+// measures it on a real (or injected-fault) rig and saves it to a calibration folder that
+// sessions reference. Processing never needs to know which of the two it has.
 #pragma once
 
 #include <array>
@@ -14,8 +14,8 @@
 
 #include "basis/vec3.h"
 #include "drivers/camera.h"
-#include "simulate/direction_maps.h"
-#include "simulate/rig.h"
+#include "rig/direction_maps.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

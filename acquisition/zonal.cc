@@ -23,7 +23,7 @@
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
 #include "fitting/exr_header.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 namespace zbrdf {
 

@@ -5,7 +5,7 @@
 
 namespace zbrdf {
 
-// The folder that holds `data/` and `simulate/rigs/`: $ZBRDF_DATA_DIR if set, else the source
+// The folder that holds `data/` and `rig/rigs/`: $ZBRDF_DATA_DIR if set, else the source
 // tree zbrdf was built from. Throws InputError if neither exists, saying how to fix it.
 std::string DataRoot();
 

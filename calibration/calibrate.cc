@@ -7,8 +7,8 @@
 #include "calibration/float_image.h"
 #include "calibration/graycard.h"
 #include "calibration/projector.h"
-#include "simulate/direction_maps.h"
-#include "simulate/optics.h"
+#include "rig/direction_maps.h"
+#include "rig/optics.h"
 
 namespace zbrdf {
 

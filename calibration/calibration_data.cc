@@ -6,8 +6,8 @@
 #include "acquisition/session.h"
 #include "basis/error.h"
 #include "calibration/float_image.h"
-#include "simulate/direction_maps.h"
-#include "simulate/optics.h"
+#include "rig/direction_maps.h"
+#include "rig/optics.h"
 
 namespace zbrdf {
 

@@ -25,7 +25,7 @@
 
 #include "acquisition/rig_calibration.h"
 #include "basis/progress.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

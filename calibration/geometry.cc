@@ -11,7 +11,7 @@
 #include "acquisition/session.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
-#include "simulate/optics.h"
+#include "rig/optics.h"
 
 namespace zbrdf {
 

@@ -31,8 +31,8 @@
 
 #include "calibration/gray_code.h"
 #include "calibration/rig_access.h"
-#include "simulate/direction_maps.h"
-#include "simulate/rig.h"
+#include "rig/direction_maps.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

@@ -12,7 +12,7 @@
 #include "basis/zonal_basis.h"
 #include "calibration/figures.h"
 #include "fitting/material_spec.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 namespace zbrdf {
 

@@ -7,7 +7,7 @@
 
 #include "basis/error.h"
 #include "calibration/figures.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 namespace zbrdf {
 

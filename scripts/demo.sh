@@ -19,7 +19,7 @@ if [ -e "$out/session.json" ]; then
   mv "$out" "$out.previous"
 fi
 mkdir -p results
-./build/zbrdf simulate --rig simulate/rigs/thesis.yaml --material merl:blue-acrylic --order 4 \
+./build/zbrdf simulate --rig rig/rigs/thesis.yaml --material merl:blue-acrylic --order 4 \
   --out "$out" "$@"
 echo
 ./build/zbrdf convert "$out" --to sh --target sh

@@ -31,12 +31,10 @@
 #include "drivers/camera.h"
 #include "drivers/projector.h"
 #include "fitting/brdf.h"
-#include "simulate/direction_maps.h"
-#include "simulate/optics.h"
+#include "rig/direction_maps.h"
+#include "rig/optics.h"
 
 namespace zbrdf {
-
-inline constexpr double kPhotonsPerJoule550nm = 2.7673e18;  // lambda / (h c) at 550 nm
 
 struct ForwardModelOptions {
   uint64_t seed = 1;  // selects the sample points (and, with noise_key, the sensor noise)

@@ -15,10 +15,10 @@
 #include "drivers/clock.h"
 #include "drivers/projector.h"
 #include "fitting/brdf.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
+#include "rig/optics.h"
+#include "rig/rig.h"
 #include "simulate/imaging.h"
-#include "simulate/optics.h"
-#include "simulate/rig.h"
 
 namespace zbrdf {
 

@@ -21,7 +21,7 @@
 #include "fitting/fit_error.h"
 #include "fitting/material_spec.h"
 #include "fitting/sh_brdf.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 #include "simulate/virtual_rig.h"
 #include "tools/fit_all.h"
 #include "tools/fit_session.h"

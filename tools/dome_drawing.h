@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "simulate/optics.h"
+#include "rig/optics.h"
 
 namespace zbrdf {
 

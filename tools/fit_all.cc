@@ -14,7 +14,7 @@
 #include "acquisition/session.h"
 #include "basis/error.h"
 #include "fitting/nbrdf.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 #include "tools/fit_session.h"
 #include "tools/virtual_capture.h"
 

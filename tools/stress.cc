@@ -27,7 +27,7 @@
 #include "basis/spherical_harmonics.h"
 #include "basis/zone.h"
 #include "fitting/sh_file.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 #include "tools/fit_session.h"
 #include "tools/sh_conversion.h"
 #include "tools/virtual_capture.h"
@@ -423,7 +423,7 @@ struct CaptureCase {
 std::string RunCapture(const CaptureCase& c, const StressOptions& options, const std::string& dir) {
   VirtualCaptureArgs args;
   const std::string rig_path =
-      options.rig_path.empty() ? DataPath("simulate/rigs/thesis.yaml") : options.rig_path;
+      options.rig_path.empty() ? DataPath("rig/rigs/thesis.yaml") : options.rig_path;
   Rig rig = ApplyPreset(LoadRig(rig_path), Preset::kFast);
   // What is stressed is the numbers' range, not the picture's noise: a few samples per pixel
   // (the fast preset has 1024) keep each capture to a few seconds.

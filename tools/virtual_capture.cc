@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "acquisition/session.h"
-#include "calibration/calibration_data.h"
-#include "simulate/direction_maps.h"
 #include "basis/error.h"
-#include "fitting/material_spec.h"
-#include "simulate/virtual_rig.h"
+#include "calibration/calibration_data.h"
 #include "drivers/aravis_camera.h"
 #include "drivers/fake_gige_camera.h"
+#include "fitting/material_spec.h"
+#include "rig/direction_maps.h"
+#include "simulate/virtual_rig.h"
 
 namespace zbrdf {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "acquisition/capture_job.h"
 #include "fitting/brdf.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

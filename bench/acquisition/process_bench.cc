@@ -20,7 +20,7 @@ namespace zbrdf {
 namespace {
 
 struct BenchSession {
-  Rig rig = LoadRig(DataPath("simulate/rigs/thesis.yaml"));
+  Rig rig = LoadRig(DataPath("rig/rigs/thesis.yaml"));
   std::string dir;
   std::unique_ptr<RigCalibration> calibration;
 

@@ -14,7 +14,7 @@ namespace {
 
 struct Setup {
   explicit Setup(Preset preset)
-      : rig(ApplyPreset(LoadRig(DataPath("simulate/rigs/thesis.yaml")), preset)),
+      : rig(ApplyPreset(LoadRig(DataPath("rig/rigs/thesis.yaml")), preset)),
         optics(rig),
         maps(LoadOrBuildRigMaps(optics, DefaultCacheDir())),
         material(MakeBrdf("merl:blue-acrylic")) {}

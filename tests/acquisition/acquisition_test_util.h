@@ -12,9 +12,9 @@
 #include "acquisition/capture_job.h"
 #include "acquisition/rig_calibration.h"
 #include "fitting/material_spec.h"
-#include "simulate/rig.h"
+#include "rig/rig.h"
 #include "simulate/virtual_rig.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf::testing {
 

@@ -14,7 +14,7 @@
 #include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
 #include "tests/acquisition/acquisition_test_util.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

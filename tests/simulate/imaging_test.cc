@@ -8,7 +8,7 @@
 
 #include "basis/error.h"
 #include "fitting/material_spec.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "basis/error.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "simulate/rig.h"
+#include "rig/rig.h"
 #include "tools/fit_all.h"
 #include "tools/virtual_capture.h"
 
@@ -27,7 +27,7 @@ inline std::string TestBuildDir(const std::string& name) {
   return path;
 }
 
-inline std::string ThesisRigPath() { return std::string(ZBRDF_SOURCE_DIR) + "/simulate/rigs/thesis.yaml"; }
+inline std::string ThesisRigPath() { return std::string(ZBRDF_SOURCE_DIR) + "/rig/rigs/thesis.yaml"; }
 
 class FileLock {
  public:

@@ -43,7 +43,7 @@ int RunBenchCommand(const std::vector<std::string>& args) {
       "errors (in-zone coefficient error; cosine-weighted L2 of the SH conversion and of\n"
       "the D-BRDF fit; rendered-ball RMSE). Writes DIR/bench.json, DIR/bench.csv and\n"
       "DIR/bench.png (error against capture time, Pareto front per material).");
-  cl.Option("rig", "FILE", "rig description", "simulate/rigs/thesis.yaml")
+  cl.Option("rig", "FILE", "rig description", "rig/rigs/thesis.yaml")
       .Option("preset", "P", "fast or full", "fast")
       .Option("materials", "LIST",
               "material specs separated by commas (default: 12 MERL materials "

@@ -10,7 +10,7 @@
 #include "calibration/calibrate.h"
 #include "drivers/hardware_rig.h"
 #include "fitting/material_spec.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 #include "simulate/virtual_rig.h"
 #include "tools/cli/command.h"
 #include "tools/terminal_progress.h"
@@ -64,7 +64,7 @@ int RunCalibrate(const std::vector<std::string>& argv) {
                  "On the virtual rig the targets are swapped in by the simulator; with --hardware\n"
                  "you are asked to place each one.");
   cl.Positional("STEP", "geometry, noise, projector, graycard or all")
-      .Option("rig", "FILE", "rig description (the design), e.g. simulate/rigs/thesis.yaml")
+      .Option("rig", "FILE", "rig description (the design), e.g. rig/rigs/thesis.yaml")
       .Option("out", "DIR", "calibration folder (created, or updated step by step)")
       .Option("preset", "P", "virtual rig: fast or full", "full")
       .Option("faults", "FILE", "virtual rig: YAML of rig fields that differ from the design as built, "
@@ -75,8 +75,8 @@ int RunCalibrate(const std::vector<std::string>& argv) {
       .Flag("json", "print the steps' reports as JSON");
   cl.Epilog(
       "Examples:\n"
-      "  zbrdf calibrate all --rig simulate/rigs/thesis.yaml --out calib/thesis\n"
-      "  zbrdf calibrate geometry --rig simulate/rigs/thesis.yaml --preset fast \\\n"
+      "  zbrdf calibrate all --rig rig/rigs/thesis.yaml --out calib/thesis\n"
+      "  zbrdf calibrate geometry --rig rig/rigs/thesis.yaml --preset fast \\\n"
       "      --faults docs/examples/faults.yaml --out /tmp/calib\n"
       "  zbrdf simulate ... --calibration calib/thesis     # capture with it\n"
       "  zbrdf process SESSION --calibration calib/thesis  # or re-process with it\n"

@@ -10,7 +10,7 @@
 #include "basis/error.h"
 #include "calibration/calibration_data.h"
 #include "drivers/hardware_rig.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 #include "tools/cli/command.h"
 #include "tools/cli/plan_flags.h"
 #include "tools/interrupt.h"
@@ -29,7 +29,7 @@ int RunCapture(const std::vector<std::string>& argv) {
                  "camera and projector of a hardware rig file are used; with --material the\n"
                  "virtual rig stands in for them. Ctrl-C stops after the frame in flight;\n"
                  "--resume continues where the journal ends.");
-  cl.Option("rig", "FILE", "rig description (optics, sensor, timing), e.g. simulate/rigs/thesis.yaml")
+  cl.Option("rig", "FILE", "rig description (optics, sensor, timing), e.g. rig/rigs/thesis.yaml")
       .Option("out", "DIR", "session folder (created; never overwritten)")
       .Option("hardware", "FILE", "hardware rig file: camera, projector, sync (docs/hardware-rig.md)")
       .Option("material", "SPEC", "capture this material on the virtual rig instead of hardware")
@@ -45,11 +45,11 @@ int RunCapture(const std::vector<std::string>& argv) {
   AddPlanFlags(cl);
   cl.Epilog(
       "Examples:\n"
-      "  zbrdf capture --rig simulate/rigs/thesis.yaml --hardware lab.yaml --out sessions/felt\n"
-      "  zbrdf capture --rig simulate/rigs/thesis.yaml --material merl:red-fabric --out /tmp/s\n"
-      "  zbrdf capture --rig simulate/rigs/thesis.yaml --material merl:red-fabric --out /tmp/g \\\n"
+      "  zbrdf capture --rig rig/rigs/thesis.yaml --hardware lab.yaml --out sessions/felt\n"
+      "  zbrdf capture --rig rig/rigs/thesis.yaml --material merl:red-fabric --out /tmp/s\n"
+      "  zbrdf capture --rig rig/rigs/thesis.yaml --material merl:red-fabric --out /tmp/g \\\n"
       "      --preset fast --gige-fake --lost-packets 0.01\n"
-      "  zbrdf capture --rig simulate/rigs/thesis.yaml --hardware lab.yaml --out sessions/felt --resume");
+      "  zbrdf capture --rig rig/rigs/thesis.yaml --hardware lab.yaml --out sessions/felt --resume");
   if (!cl.Parse(argv)) return 0;
   if (cl.Has("hardware") == cl.Has("material") && !cl.Has("resume")) {
     throw InputError("give exactly one of --hardware (real devices) and --material (virtual rig)");

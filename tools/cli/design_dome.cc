@@ -8,7 +8,7 @@
 
 #include "basis/error.h"
 #include "basis/zone.h"
-#include "simulate/optics.h"
+#include "rig/optics.h"
 #include "tools/cli/command.h"
 #include "tools/dome_drawing.h"
 
@@ -23,7 +23,7 @@ int RunDesignDome(const std::vector<std::string>& args) {
                  "center. Writes the profile (CSV) and a cross-section drawing\n(PNG) with "
                  "chief-ray paths, and reports the measured zone, its share of the hemisphere\n"
                  "and the camera pixels per degree of theta.");
-  cl.Option("rig", "FILE", "rig description (YAML), e.g. simulate/rigs/thesis.yaml")
+  cl.Option("rig", "FILE", "rig description (YAML), e.g. rig/rigs/thesis.yaml")
       .Option("out", "DIR", "folder for dome-profile.csv and dome-cross-section.png")
       .Flag("json", "print the report as JSON");
   if (!cl.Parse(args)) return 0;

@@ -33,7 +33,7 @@ int RunFitAll(const std::vector<std::string>& args) {
                  "the true material) per material and model: DIR/fit-all.csv and DIR/fit-all.json\n"
                  "(with the median and worst error per model). Resumable: materials whose session\n"
                  "and fits exist in DIR are not redone; an interrupted one resumes.");
-  cl.Option("rig", "FILE", "rig description, e.g. simulate/rigs/thesis.yaml")
+  cl.Option("rig", "FILE", "rig description, e.g. rig/rigs/thesis.yaml")
       .Option("materials", "LIST", "material specs separated by commas; merl:* = all bundled", "merl:*")
       .Option("order", "L", "zonal order", "8")
       .Option("out", "DIR", "folder for the sessions and the table")
@@ -44,7 +44,7 @@ int RunFitAll(const std::vector<std::string>& args) {
       .Flag("refit", "fit again even where fit-<model>.json exists")
       .Flag("json", "print the table summary as JSON")
       .Epilog("Example:\n"
-              "  zbrdf fit-all --rig simulate/rigs/thesis.yaml --materials 'merl:*' --order 8 \\\n"
+              "  zbrdf fit-all --rig rig/rigs/thesis.yaml --materials 'merl:*' --order 8 \\\n"
               "      --out results/merl-order8 --preset fast --models dbrdf,ggx");
   if (!cl.Parse(args)) return 0;
   FitAllOptions options;

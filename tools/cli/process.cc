@@ -11,7 +11,7 @@
 #include "acquisition/session.h"
 #include "basis/error.h"
 #include "calibration/calibration_data.h"
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 #include "tools/cli/command.h"
 #include "tools/session_report.h"
 #include "tools/terminal_progress.h"

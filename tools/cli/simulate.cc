@@ -10,12 +10,12 @@
 #include "acquisition/ground_truth.h"
 #include "basis/error.h"
 #include "fitting/material_spec.h"
-#include "tools/virtual_capture.h"
 #include "tools/cli/command.h"
 #include "tools/cli/plan_flags.h"
 #include "tools/interrupt.h"
 #include "tools/session_report.h"
 #include "tools/terminal_progress.h"
+#include "tools/virtual_capture.h"
 
 namespace zbrdf::cli {
 namespace {
@@ -31,7 +31,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
                  "meters the exposure, plans the patterns, renders every frame through the rig's\n"
                  "optics and sensor, merges HDR, extracts the zonal coefficients (zonal.exr) and\n"
                  "compares them with the material's true coefficients.");
-  cl.Option("rig", "FILE", "rig description, e.g. simulate/rigs/thesis.yaml")
+  cl.Option("rig", "FILE", "rig description, e.g. rig/rigs/thesis.yaml")
       .Option("material", "SPEC", "the sample, e.g. merl:blue-acrylic, lambert:0.18, ggx:alpha=0.2")
       .Option("out", "DIR", "session folder to create")
       .Option("preset", "P", "fast (1/4 resolution, for tests) or full (the rig as described)", "full")
@@ -46,7 +46,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
   AddPlanFlags(cl);
   cl.Epilog(
       "Example:\n"
-      "  zbrdf simulate --rig simulate/rigs/thesis.yaml --material merl:blue-acrylic --order 4 \\\n"
+      "  zbrdf simulate --rig rig/rigs/thesis.yaml --material merl:blue-acrylic --order 4 \\\n"
       "      --out results/blue-acrylic --preset fast\n\n"
       "The session folder holds session.json, frames/, journal.jsonl, hdr/, zonal.exr and\n"
       "report.json (docs/session-folder.md). Materials: zbrdf eval --help lists the specs.");

@@ -77,7 +77,7 @@ int RunStress(const std::vector<std::string>& args) {
   }
 
   StressOptions options;
-  options.rig_path = cl.Has("rig") ? cl.Get("rig") : DataPath("simulate/rigs/thesis.yaml");
+  options.rig_path = cl.Has("rig") ? cl.Get("rig") : DataPath("rig/rigs/thesis.yaml");
   options.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
   options.samples_per_pixel = cl.GetInt("samples-per-pixel", 0, 65536);
   const bool temporary = !cl.Has("work-dir");

@@ -1,4 +1,4 @@
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 #include <unistd.h>
 

@@ -1,11 +1,11 @@
-#include "simulate/optics.h"
+#include "rig/optics.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "basis/zone.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

@@ -1,4 +1,4 @@
-#include "simulate/optics.h"
+#include "rig/optics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,11 @@
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "basis/error.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

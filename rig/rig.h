@@ -29,7 +29,7 @@ struct ParabolaParams {
 
 struct DomeParams {
   // The dome is a surface of revolution designed by the Euler integration of DESIGN.md
-  // section 1 (simulate/dome_design.h). A built dome may stop short of the sample plane:
+  // section 1 (rig/dome_design.h). A built dome may stop short of the sample plane:
   double lower_edge_height_mm = 0;  // no mirror below this height (0: down to the sample plane)
   int design_steps = 20000;         // Euler steps from the rim ray to the axis
 };
@@ -61,6 +61,10 @@ struct ProjectorParams {
   // Flat-field factor for the pixel (px, py) (pixel centers at half-integers).
   double FlatField(double px, double py) const;
 };
+
+// Photons per joule of light at 550 nm, lambda / (h c): with quantum_efficiency, the electrons a
+// sensor collects per joule. The radiometry assumes this one wavelength for every channel.
+inline constexpr double kPhotonsPerJoule550nm = 2.7673e18;
 
 struct SensorParams {
   double gain_e_per_dn = 2.0;     // electrons per digital number

@@ -1,5 +1,6 @@
-// Shared fixtures for the simulator tests: the shipped rigs, at the fast preset, with their
-// direction maps cached once per test binary in a private folder.
+// Shared fixtures for the tests of everything that reads a rig (rig/, simulate/, acquisition/,
+// calibration/): the shipped rigs, at the fast preset, with their direction maps cached in the
+// build tree.
 #pragma once
 
 #include <cstdlib>
@@ -7,14 +8,14 @@
 #include <memory>
 #include <string>
 
-#include "simulate/direction_maps.h"
-#include "simulate/optics.h"
-#include "simulate/rig.h"
+#include "rig/direction_maps.h"
+#include "rig/optics.h"
+#include "rig/rig.h"
 
 namespace zbrdf::testing {
 
 inline std::string SourceRig(const std::string& name) {
-  return std::string(ZBRDF_SOURCE_DIR) + "/simulate/rigs/" + name;
+  return std::string(ZBRDF_SOURCE_DIR) + "/rig/rigs/" + name;
 }
 
 // A map cache in the build tree, shared by the test processes (CTest runs each test in its own

@@ -18,7 +18,7 @@
 
 #include "basis/progress.h"
 #include "basis/vec3.h"
-#include "simulate/optics.h"
+#include "rig/optics.h"
 
 namespace zbrdf {
 

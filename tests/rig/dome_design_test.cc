@@ -1,4 +1,4 @@
-#include "simulate/dome_design.h"
+#include "rig/dome_design.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 
 #include "basis/error.h"
 #include "basis/zone.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

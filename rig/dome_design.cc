@@ -1,4 +1,4 @@
-#include "simulate/dome_design.h"
+#include "rig/dome_design.h"
 
 #include <cmath>
 #include <cstdio>

@@ -12,7 +12,7 @@
 
 #include <vector>
 
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 

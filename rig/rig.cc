@@ -1,4 +1,4 @@
-#include "simulate/rig.h"
+#include "rig/rig.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -424,7 +424,7 @@ Rig LoadRig(const std::string& path) {
   if (!in) {
     throw InputError("rig file " + path +
                      " cannot be read; give the path of a rig YAML such as "
-                     "simulate/rigs/thesis.yaml");
+                     "rig/rigs/thesis.yaml");
   }
   std::stringstream text;
   text << in.rdbuf();

@@ -1,4 +1,4 @@
-#include "simulate/direction_maps.h"
+#include "rig/direction_maps.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "basis/zone.h"
-#include "tests/simulate/simulate_test_util.h"
+#include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {
 namespace {

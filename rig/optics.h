@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "basis/vec3.h"
-#include "simulate/dome_design.h"
-#include "simulate/rig.h"
+#include "rig/dome_design.h"
+#include "rig/rig.h"
 
 namespace zbrdf {
 
