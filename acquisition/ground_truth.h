@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "acquisition/zonal.h"
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 
 namespace zbrdf {
 

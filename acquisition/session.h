@@ -86,8 +86,6 @@ class SessionFolder {
 
 // FNV-1a 64-bit checksum of a file's bytes, "fnv1a64:<hex>"; "" if unreadable.
 std::string FileChecksum(const std::string& path);
-// Writes bytes to path via a temporary file, fsync and rename. Throws InputError on failure.
-void WriteFileAtomically(const std::string& path, const std::string& bytes);
 
 struct CaptureOptions {
   std::chrono::milliseconds grab_timeout{5000};

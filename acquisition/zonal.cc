@@ -22,7 +22,7 @@
 #include "basis/parallel.h"
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
-#include "fitting/exr_header.h"
+#include "brdf/exr_header.h"
 #include "rig/direction_maps.h"
 
 namespace zbrdf {

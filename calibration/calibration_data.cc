@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "calibration/float_image.h"
 #include "rig/direction_maps.h"

@@ -8,9 +8,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
+#include "basis/zone.h"
 #include "rig/optics.h"
 
 namespace zbrdf {

@@ -10,8 +10,8 @@
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
 #include "basis/zonal_basis.h"
+#include "brdf/material_spec.h"
 #include "calibration/figures.h"
-#include "fitting/material_spec.h"
 #include "rig/direction_maps.h"
 
 namespace zbrdf {

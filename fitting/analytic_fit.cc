@@ -10,10 +10,10 @@
 
 #include "basis/error.h"
 #include "basis/parallel.h"
-#include "fitting/ashikhmin_shirley.h"
-#include "fitting/ggx.h"
-#include "fitting/lambertian.h"
-#include "fitting/ward.h"
+#include "brdf/ashikhmin_shirley.h"
+#include "brdf/ggx.h"
+#include "brdf/lambertian.h"
+#include "brdf/ward.h"
 
 namespace zbrdf {
 namespace {

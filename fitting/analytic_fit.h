@@ -24,7 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 #include "fitting/fit_common.h"
 #include "fitting/fit_data.h"
 #include "fitting/fit_quadrature.h"

@@ -39,7 +39,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fitting/dbrdf.h"
+#include "brdf/dbrdf.h"
 #include "fitting/fit_common.h"
 #include "fitting/fit_data.h"
 #include "fitting/fit_quadrature.h"

@@ -29,7 +29,7 @@
 #include <span>
 
 #include "basis/zone.h"
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 
 namespace zbrdf {
 

@@ -8,7 +8,7 @@
 #include "basis/legendre.h"
 #include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
-#include "fitting/fresnel.h"
+#include "brdf/fresnel.h"
 
 namespace zbrdf {
 namespace {

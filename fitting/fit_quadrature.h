@@ -46,8 +46,8 @@
 #include "basis/vec3.h"
 #include "basis/zonal_basis.h"
 #include "basis/zone.h"
-#include "fitting/brdf.h"
-#include "fitting/dbrdf.h"
+#include "brdf/brdf.h"
+#include "brdf/dbrdf.h"
 #include "fitting/fit_data.h"
 
 namespace zbrdf {

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "basis/vec3.h"
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 
 namespace zbrdf::fuzz {
 

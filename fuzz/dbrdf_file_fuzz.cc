@@ -1,10 +1,10 @@
-// D-BRDF files (fitting/dbrdf_file.h): ReadDBrdfFile and ReadDBrdfFileInfo; a model read is then
+// D-BRDF files (brdf/dbrdf_file.h): ReadDBrdfFile and ReadDBrdfFileInfo; a model read is then
 // evaluated and sampled at a few directions.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 
-#include "fitting/dbrdf_file.h"
+#include "brdf/dbrdf_file.h"
 #include "fuzz/brdf_probe.h"
 #include "fuzz/fuzz_util.h"
 

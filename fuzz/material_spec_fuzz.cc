@@ -1,4 +1,4 @@
-// Material specs (fitting/material_spec.h): MakeBrdf on a --material string; the BRDF made is
+// Material specs (brdf/material_spec.h): MakeBrdf on a --material string; the BRDF made is
 // then evaluated and sampled at a few directions. Specs of the "file:" model are skipped: they
 // name files, whose readers have targets of their own (and the fuzzer must not read /dev/zero).
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "fuzz/brdf_probe.h"
 #include "fuzz/fuzz_util.h"
 

@@ -1,9 +1,9 @@
-// MERL .binary tables (fitting/merl_table.h): ReadMerlBinary. A full table is 33 MB, longer
+// MERL .binary tables (brdf/merl_table.h): ReadMerlBinary. A full table is 33 MB, longer
 // than fuzz inputs get, so this exercises the header and size checks.
 #include <cstddef>
 #include <cstdint>
 
-#include "fitting/merl_table.h"
+#include "brdf/merl_table.h"
 #include "fuzz/fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,9 +1,9 @@
-// Network material files (fitting/nbrdf.h): ReadNbrdfNetwork; a network read is then evaluated
+// Network material files (brdf/nbrdf.h): ReadNbrdfNetwork; a network read is then evaluated
 // and sampled at a few directions.
 #include <cstddef>
 #include <cstdint>
 
-#include "fitting/nbrdf.h"
+#include "brdf/nbrdf.h"
 #include "fuzz/brdf_probe.h"
 #include "fuzz/fuzz_util.h"
 

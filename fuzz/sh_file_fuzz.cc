@@ -1,8 +1,8 @@
-// SH BRDF files (fitting/sh_file.h): ReadShFile.
+// SH BRDF files (brdf/sh_file.h): ReadShFile.
 #include <cstddef>
 #include <cstdint>
 
-#include "fitting/sh_file.h"
+#include "brdf/sh_file.h"
 #include "fuzz/fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -28,9 +28,9 @@
 #include <vector>
 
 #include "basis/progress.h"
+#include "brdf/brdf.h"
 #include "drivers/camera.h"
 #include "drivers/projector.h"
-#include "fitting/brdf.h"
 #include "rig/direction_maps.h"
 #include "rig/optics.h"
 

@@ -11,10 +11,10 @@
 #include <memory>
 #include <string>
 
+#include "brdf/brdf.h"
 #include "drivers/camera.h"
 #include "drivers/clock.h"
 #include "drivers/projector.h"
-#include "fitting/brdf.h"
 #include "rig/direction_maps.h"
 #include "rig/optics.h"
 #include "rig/rig.h"

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
-#include "fitting/brdf.h"
-#include "tools/brdf_metrics.h"
+#include "brdf/brdf.h"
+#include "brdf/brdf_metrics.h"
 #include "tools/environment.h"
 #include "tools/material_ball.h"
 

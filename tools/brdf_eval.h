@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 
 namespace zbrdf {
 

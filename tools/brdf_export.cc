@@ -3,15 +3,15 @@
 #include <chrono>
 #include <filesystem>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
-#include "fitting/dbrdf.h"
-#include "fitting/dbrdf_file.h"
-#include "fitting/merl_table.h"
-#include "fitting/sh_brdf.h"
-#include "fitting/sh_file.h"
-#include "tools/brdf_explorer.h"
-#include "tools/merl_export.h"
+#include "brdf/brdf_explorer.h"
+#include "brdf/dbrdf.h"
+#include "brdf/dbrdf_file.h"
+#include "brdf/merl_export.h"
+#include "brdf/merl_table.h"
+#include "brdf/sh_brdf.h"
+#include "brdf/sh_file.h"
 
 namespace zbrdf {
 namespace {

@@ -1,14 +1,14 @@
 // `zbrdf export`: a BRDF written in a format renderers and viewers load (docs/formats.md), with
 // scene snippets that use it.
 //
-//   merl            MERL .binary (tools/merl_export.h)
+//   merl            MERL .binary (brdf/merl_export.h)
 //   rgl             RGL .bsdf: the rgb variant (Mitsuba 3 RGB variants) and/or the spectral
-//                   variant (pbrt-v4, Mitsuba 3 spectral variants) (tools/rgl_bsdf.h)
-//   sh              zbrdf SH file (fitting/sh_file.h), from SH data (a converted session or an
+//                   variant (pbrt-v4, Mitsuba 3 spectral variants) (brdf/rgl_bsdf.h)
+//   sh              zbrdf SH file (brdf/sh_file.h), from SH data (a converted session or an
 //                   sh.exr)
-//   dbrdf           zbrdf D-BRDF file (fitting/dbrdf_file.h), from a D-BRDF (a fitted session,
+//   dbrdf           zbrdf D-BRDF file (brdf/dbrdf_file.h), from a D-BRDF (a fitted session,
 //                   a fit-dbrdf.exr or a dbrdf: spec)
-//   brdf-explorer   Disney BRDF Explorer .brdf (tools/brdf_explorer.h)
+//   brdf-explorer   Disney BRDF Explorer .brdf (brdf/brdf_explorer.h)
 // Scene snippets (rgl only): NAME.mitsuba.xml (Mitsuba 3, `measured` BSDF on a sphere) and
 // NAME.pbrt (pbrt-v4, Material "measured"), next to the export.
 #pragma once
@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "brdf/rgl_bsdf.h"
 #include "tools/brdf_input.h"
-#include "tools/rgl_bsdf.h"
 
 namespace zbrdf {
 

@@ -10,14 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "basis/error.h"
-#include "fitting/dbrdf_file.h"
-#include "fitting/material_spec.h"
-#include "fitting/merl_table.h"
-#include "fitting/nbrdf.h"
-#include "fitting/sh_brdf.h"
-#include "fitting/sh_file.h"
-#include "tools/brdf_explorer.h"
-#include "tools/rgl_bsdf.h"
+#include "brdf/brdf_explorer.h"
+#include "brdf/dbrdf_file.h"
+#include "brdf/material_spec.h"
+#include "brdf/merl_table.h"
+#include "brdf/nbrdf.h"
+#include "brdf/rgl_bsdf.h"
+#include "brdf/sh_brdf.h"
+#include "brdf/sh_file.h"
 
 namespace zbrdf {
 namespace {

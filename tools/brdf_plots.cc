@@ -8,7 +8,7 @@
 #include "acquisition/zonal.h"
 #include "basis/spherical_harmonics.h"
 #include "basis/target_basis.h"
-#include "fitting/sh_file.h"
+#include "brdf/sh_file.h"
 
 namespace zbrdf {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 
 namespace zbrdf {
 

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "basis/vec3.h"
-#include "fitting/sampling.h"
+#include "brdf/sampling.h"
 #include "tools/image.h"
 
 namespace zbrdf {

@@ -11,9 +11,9 @@
 #include <mutex>
 #include <thread>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
-#include "fitting/nbrdf.h"
+#include "brdf/nbrdf.h"
 #include "rig/rig.h"
 #include "tools/fit_session.h"
 #include "tools/virtual_capture.h"

@@ -7,10 +7,11 @@
 #include <sstream>
 
 #include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
-#include "fitting/dbrdf_file.h"
-#include "fitting/material_spec.h"
-#include "fitting/sh_brdf.h"
+#include "brdf/dbrdf_file.h"
+#include "brdf/material_spec.h"
+#include "brdf/sh_brdf.h"
 #include "tools/brdf_figure.h"
 #include "tools/sh_conversion.h"
 

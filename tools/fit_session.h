@@ -3,9 +3,9 @@
 // Reads SESSION/zonal.exr, fits the model (dbrdf, ggx, ward or as; fitting/dbrdf_fit.h,
 // fitting/analytic_fit.h), and for simulated sessions (session.json "material") compares the fit
 // with the true material (fitting/fit_error.h). Writes into the session folder:
-//   fit-dbrdf.exr   the D-BRDF (fitting/dbrdf_file.h), the report in its zbrdf.info attribute
+//   fit-dbrdf.exr   the D-BRDF (brdf/dbrdf_file.h), the report in its zbrdf.info attribute
 //   fit-<model>.json  the report; for analytic models its "spec" is a material spec
-//                     (fitting/material_spec.h) that recreates the fitted BRDF
+//                     (brdf/material_spec.h) that recreates the fitted BRDF
 // The report's keys: model, params, spec (analytic), fit_time_s, fit_time_breakdown,
 // isotropic, residual, conditions, warnings, outputs, session, order, zone_deg, and for simulated
 // sessions material, error_cosine_l2, error_in_zone, error_outside_zone.
@@ -19,8 +19,8 @@
 #include <nlohmann/json.hpp>
 
 #include "acquisition/zonal.h"
+#include "brdf/brdf.h"
 #include "fitting/analytic_fit.h"
-#include "fitting/brdf.h"
 #include "fitting/dbrdf_fit.h"
 #include "fitting/fit_data.h"
 #include "fitting/fit_error.h"

@@ -9,8 +9,8 @@
 
 #include "acquisition/zonal.h"
 #include "basis/error.h"
-#include "fitting/material_spec.h"
-#include "fitting/sh_file.h"
+#include "brdf/material_spec.h"
+#include "brdf/sh_file.h"
 #include "tools/brdf_compare.h"
 #include "tools/brdf_input.h"
 #include "tools/brdf_plots.h"

@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 
 namespace zbrdf {

@@ -4,7 +4,7 @@
 
 #include "basis/error.h"
 #include "basis/parallel.h"
-#include "fitting/sampling.h"
+#include "brdf/sampling.h"
 
 namespace zbrdf {
 namespace {

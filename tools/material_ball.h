@@ -20,7 +20,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 #include "tools/environment.h"
 #include "tools/image.h"
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/zone.h"
 
 namespace zbrdf {

@@ -26,7 +26,7 @@
 #include "basis/error.h"
 #include "basis/spherical_harmonics.h"
 #include "basis/zone.h"
-#include "fitting/sh_file.h"
+#include "brdf/sh_file.h"
 #include "rig/rig.h"
 #include "tools/fit_session.h"
 #include "tools/sh_conversion.h"

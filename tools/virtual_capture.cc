@@ -9,10 +9,10 @@
 
 #include "acquisition/session.h"
 #include "basis/error.h"
+#include "brdf/material_spec.h"
 #include "calibration/calibration_data.h"
 #include "drivers/aravis_camera.h"
 #include "drivers/fake_gige_camera.h"
-#include "fitting/material_spec.h"
 #include "rig/direction_maps.h"
 #include "simulate/virtual_rig.h"
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "acquisition/capture_job.h"
-#include "fitting/brdf.h"
+#include "brdf/brdf.h"
 #include "rig/rig.h"
 
 namespace zbrdf {

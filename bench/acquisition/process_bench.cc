@@ -13,7 +13,7 @@
 #include "acquisition/frame_file.h"
 #include "acquisition/hdr.h"
 #include "basis/data_path.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "simulate/virtual_rig.h"
 
 namespace zbrdf {

@@ -8,11 +8,11 @@
 #include <array>
 #include <random>
 
+#include "brdf/ggx.h"
 #include "fitting/analytic_fit.h"
 #include "fitting/dbrdf_fit.h"
 #include "fitting/fit_error.h"
 #include "fitting/fit_quadrature.h"
-#include "fitting/ggx.h"
 
 namespace zbrdf {
 namespace {

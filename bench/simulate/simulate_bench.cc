@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "basis/data_path.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "simulate/imaging.h"
 
 namespace zbrdf {

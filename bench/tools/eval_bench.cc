@@ -10,7 +10,7 @@
 #include <random>
 #include <string>
 
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "tools/brdf_eval.h"
 
 namespace zbrdf {

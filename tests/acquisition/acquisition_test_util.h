@@ -11,7 +11,7 @@
 
 #include "acquisition/capture_job.h"
 #include "acquisition/rig_calibration.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "rig/rig.h"
 #include "simulate/virtual_rig.h"
 #include "tests/rig/rig_test_util.h"

@@ -11,7 +11,7 @@
 
 #include "acquisition/ground_truth.h"
 #include "basis/error.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "simulate/virtual_rig.h"
 #include "tests/acquisition/acquisition_test_util.h"
 #include "tests/rig/rig_test_util.h"

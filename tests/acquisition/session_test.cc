@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "tests/acquisition/acquisition_test_util.h"
 

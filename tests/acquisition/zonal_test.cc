@@ -247,7 +247,7 @@ TEST(ZonalExr, NonFiniteOrOverflowingValuesAreNeverWritten) {
 // Found by fuzz/zonal_exr_fuzz: OpenEXR 3.1 allocates header attributes at the size the file
 // declares, and reads a channel list by its own layout whatever its declared size, so a 3.5 KB
 // file whose channel list was cut short made it read the next bytes as a 1.9 GB string. The
-// header is checked before OpenEXR sees it (fitting/exr_header.h).
+// header is checked before OpenEXR sees it (brdf/exr_header.h).
 TEST(ZonalExr, HeaderAttributesLargerThanTheFileAreInputErrors) {
   const std::string fuzzed = ZBRDF_TEST_DATA_DIR "/fuzz/zonal-channel-list-cut-short.exr";
   try {

@@ -6,8 +6,8 @@
 #include <memory>
 #include <string>
 
+#include "brdf/material_spec.h"
 #include "calibration/calibrate.h"
-#include "fitting/material_spec.h"
 #include "simulate/virtual_rig.h"
 #include "tests/acquisition/acquisition_test_util.h"
 #include "tests/rig/rig_test_util.h"

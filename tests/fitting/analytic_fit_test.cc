@@ -4,10 +4,10 @@
 
 #include "basis/error.h"
 
-#include "fitting/ashikhmin_shirley.h"
-#include "fitting/ggx.h"
-#include "fitting/lambertian.h"
-#include "fitting/ward.h"
+#include "brdf/ashikhmin_shirley.h"
+#include "brdf/ggx.h"
+#include "brdf/lambertian.h"
+#include "brdf/ward.h"
 #include "tests/fitting/fit_test_util.h"
 
 namespace zbrdf {

@@ -4,10 +4,10 @@
 
 #include "basis/error.h"
 
+#include "brdf/ggx.h"
+#include "brdf/lambertian.h"
 #include "fitting/fit_error.h"
-#include "fitting/ggx.h"
-#include "fitting/lambertian.h"
-#include "tests/fitting/brdf_checks.h"
+#include "tests/brdf/brdf_checks.h"
 #include "tests/fitting/fit_test_util.h"
 
 namespace zbrdf {

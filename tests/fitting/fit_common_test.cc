@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "fitting/ggx.h"
+#include "brdf/ggx.h"
 
 namespace zbrdf {
 namespace {

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "basis/spherical_harmonics.h"
+#include "brdf/ggx.h"
 #include "fitting/fit_quadrature.h"
-#include "fitting/ggx.h"
 #include "tests/fitting/fit_test_util.h"
 
 namespace zbrdf {

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "basis/zonal_basis.h"
-#include "fitting/ggx.h"
-#include "fitting/lambertian.h"
+#include "brdf/ggx.h"
+#include "brdf/lambertian.h"
 #include "tests/fitting/fit_test_util.h"
 
 namespace zbrdf {

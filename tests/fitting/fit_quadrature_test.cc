@@ -4,10 +4,10 @@
 
 #include "basis/error.h"
 #include "basis/projection.h"
-#include "fitting/dbrdf.h"
+#include "brdf/dbrdf.h"
+#include "brdf/ggx.h"
+#include "brdf/lambertian.h"
 #include "fitting/fit_common.h"
-#include "fitting/ggx.h"
-#include "fitting/lambertian.h"
 #include "tests/fitting/fit_test_util.h"
 
 namespace zbrdf {

@@ -11,10 +11,10 @@
 #include "basis/parallel.h"
 #include "basis/quadrature.h"
 #include "basis/zonal_basis.h"
-#include "fitting/brdf.h"
-#include "fitting/dbrdf.h"
+#include "brdf/brdf.h"
+#include "brdf/dbrdf.h"
+#include "brdf/ggx.h"
 #include "fitting/fit_data.h"
-#include "fitting/ggx.h"
 
 namespace zbrdf::testing {
 

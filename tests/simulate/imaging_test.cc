@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "basis/error.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "tests/rig/rig_test_util.h"
 
 namespace zbrdf {

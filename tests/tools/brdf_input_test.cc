@@ -6,15 +6,15 @@
 #include <filesystem>
 
 #include "basis/error.h"
-#include "fitting/dbrdf.h"
-#include "fitting/material_spec.h"
-#include "fitting/merl_table.h"
-#include "fitting/nbrdf.h"
-#include "fitting/sh_brdf.h"
+#include "brdf/brdf_explorer.h"
+#include "brdf/dbrdf.h"
+#include "brdf/material_spec.h"
+#include "brdf/merl_table.h"
+#include "brdf/nbrdf.h"
+#include "brdf/rgl_bsdf.h"
+#include "brdf/sh_brdf.h"
 #include "session_fixture.h"
-#include "tools/brdf_explorer.h"
 #include "tools/brdf_export.h"
-#include "tools/rgl_bsdf.h"
 #include "tools_test_util.h"
 
 namespace zbrdf {

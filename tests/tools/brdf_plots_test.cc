@@ -10,7 +10,7 @@
 
 #include "acquisition/zonal.h"
 #include "basis/spherical_harmonics.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "session_fixture.h"
 #include "tools_test_util.h"
 

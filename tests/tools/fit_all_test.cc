@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "basis/error.h"
-#include "fitting/nbrdf.h"
+#include "brdf/nbrdf.h"
 #include "tests/tools/simulated_sessions.h"
 
 namespace zbrdf {

@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "basis/error.h"
-#include "fitting/dbrdf.h"
-#include "fitting/dbrdf_file.h"
+#include "brdf/dbrdf.h"
+#include "brdf/dbrdf_file.h"
+#include "brdf/material_spec.h"
 #include "fitting/fit_common.h"
-#include "fitting/material_spec.h"
 #include "tests/tools/simulated_sessions.h"
 
 namespace zbrdf {

@@ -11,7 +11,7 @@
 #include "acquisition/zonal.h"
 #include "basis/error.h"
 #include "basis/spherical_harmonics.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "session_fixture.h"
 #include "tools/brdf_plots.h"
 #include "tools/image.h"

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "fitting/dbrdf.h"
-#include "fitting/ggx.h"
-#include "fitting/material_spec.h"
+#include "brdf/dbrdf.h"
+#include "brdf/ggx.h"
+#include "brdf/material_spec.h"
 #include "tools/environment.h"
 #include "tools_test_util.h"
 

@@ -9,9 +9,9 @@
 
 #include "acquisition/zonal.h"
 #include "basis/spherical_harmonics.h"
-#include "fitting/dbrdf.h"
-#include "fitting/dbrdf_file.h"
-#include "fitting/sh_file.h"
+#include "brdf/dbrdf.h"
+#include "brdf/dbrdf_file.h"
+#include "brdf/sh_file.h"
 
 namespace zbrdf::testing {
 

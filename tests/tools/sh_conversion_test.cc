@@ -4,10 +4,10 @@
 
 #include "acquisition/zonal.h"
 #include "basis/error.h"
-#include "fitting/fit_error.h"
-#include "fitting/lambertian.h"
 #include "basis/target_basis.h"
-#include "fitting/sh_brdf.h"
+#include "brdf/lambertian.h"
+#include "brdf/sh_brdf.h"
+#include "fitting/fit_error.h"
 #include "tests/tools/simulated_sessions.h"
 #include "tools/fit_session.h"
 

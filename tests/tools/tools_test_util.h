@@ -2,55 +2,18 @@
 // folders, running the zbrdf binary.
 #pragma once
 
-#include <unistd.h>
+#include <sys/wait.h>
 
-#include <cmath>
-#include <cstdint>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <random>
-#include <sstream>
 #include <string>
 
-#include "basis/vec3.h"
-#include "tests/fitting/brdf_checks.h"
+#include "tests/brdf/brdf_checks.h"
+#include "tests/test_files.h"
 
 namespace zbrdf::testing {
 
-// Rng and RandomUpperDirection come from tests/fitting/brdf_checks.h.
-
-// A fresh folder under the temp directory, removed by the destructor.
-class TempDir {
- public:
-  explicit TempDir(const std::string& name)
-      : path_((std::filesystem::temp_directory_path() /
-               ("zbrdf_tools_" + std::to_string(::getpid()) + "_" + name))
-                  .string()) {
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code error;
-    std::filesystem::remove_all(path_, error);
-  }
-  const std::string& path() const { return path_; }
-  std::string File(const std::string& name) const { return path_ + "/" + name; }
-
- private:
-  std::string path_;
-};
-
-inline std::string ReadFile(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
-
-inline void WriteFile(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
+// Rng and RandomUpperDirection come from tests/brdf/brdf_checks.h, TempDir, ReadFile and
+// WriteFile from tests/test_files.h.
 
 // Runs `zbrdf ARGS` with the shell; returns its exit status. Output goes to the given files.
 inline int RunZbrdf(const std::string& args, const std::string& stdout_file = "/dev/null",

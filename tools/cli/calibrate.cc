@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "basis/error.h"
+#include "brdf/material_spec.h"
 #include "calibration/calibrate.h"
 #include "drivers/hardware_rig.h"
-#include "fitting/material_spec.h"
 #include "rig/direction_maps.h"
 #include "simulate/virtual_rig.h"
 #include "tools/cli/command.h"

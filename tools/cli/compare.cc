@@ -4,7 +4,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "tools/brdf_compare.h"
 #include "tools/brdf_input.h"

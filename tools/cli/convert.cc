@@ -7,8 +7,8 @@
 
 #include "acquisition/zonal.h"
 #include "basis/error.h"
+#include "brdf/sh_brdf.h"
 #include "fitting/fit_error.h"
-#include "fitting/sh_brdf.h"
 #include "tools/cli/command.h"
 #include "tools/fit_session.h"
 #include "tools/sh_conversion.h"

@@ -6,9 +6,9 @@
 #include <iterator>
 #include <sstream>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "tools/brdf_eval.h"
 #include "tools/brdf_input.h"
 #include "tools/cli/command.h"

@@ -5,11 +5,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "acquisition/session.h"
 #include "acquisition/zonal.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
-#include "fitting/material_spec.h"
-#include "fitting/sh_file.h"
+#include "brdf/material_spec.h"
+#include "brdf/sh_file.h"
 #include "tools/brdf_input.h"
 #include "tools/brdf_plots.h"
 #include "tools/cli/command.h"

@@ -3,7 +3,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "tools/cli/command.h"
 #include "tools/html_report.h"
 

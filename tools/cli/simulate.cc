@@ -9,7 +9,7 @@
 #include "acquisition/capture_job.h"
 #include "acquisition/ground_truth.h"
 #include "basis/error.h"
-#include "fitting/material_spec.h"
+#include "brdf/material_spec.h"
 #include "tools/cli/command.h"
 #include "tools/cli/plan_flags.h"
 #include "tools/interrupt.h"

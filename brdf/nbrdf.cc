@@ -1,0 +1,309 @@
+#include "brdf/nbrdf.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "basis/data_path.h"
+#include "basis/error.h"
+
+namespace zbrdf {
+namespace {
+
+constexpr int kInputs = 6;
+constexpr int kOutputs = 3;
+constexpr int kMaxHidden = 256;
+constexpr const char* kFormat = "nbrdf-mlp-v1";
+constexpr const char* kBundledFolder = "data/materials/merl";
+
+// Pairs per block of EvalBatch; a multiple of kTile.
+constexpr int kBlock = 64;
+// Pairs whose accumulators a layer keeps in registers at once.
+constexpr int kTile = 16;
+
+[[noreturn]] void Fail(const std::string& path, const std::string& what) {
+  throw InputError("network file " + path + ": " + what);
+}
+
+NbrdfNetwork::Layer ReadLayer(const std::string& path, const nlohmann::json& json, int index) {
+  const std::string name = "layers[" + std::to_string(index) + "]";
+  if (!json.is_object()) Fail(path, name + " must be an object");
+  NbrdfNetwork::Layer layer;
+  for (const char* key : {"in", "out"}) {
+    if (!json.contains(key) || !json[key].is_number_integer()) {
+      Fail(path, name + "." + key + " must be an integer");
+    }
+  }
+  layer.in = json["in"].get<int>();
+  layer.out = json["out"].get<int>();
+  if (layer.in < 1 || layer.out < 1) {
+    Fail(path, name + " has in = " + std::to_string(layer.in) +
+                   ", out = " + std::to_string(layer.out) + "; both must be >= 1");
+  }
+  const auto read_numbers = [&](const char* key, size_t count, std::vector<double>* values) {
+    if (!json.contains(key) || !json[key].is_array()) {
+      Fail(path, name + "." + key + " must be an array of numbers");
+    }
+    const nlohmann::json& array = json[key];
+    if (array.size() != count) {
+      Fail(path, name + "." + key + " has " + std::to_string(array.size()) + " values, expected " +
+                     std::to_string(count));
+    }
+    values->reserve(count);
+    for (size_t k = 0; k < count; ++k) {
+      if (!array[k].is_number() || !std::isfinite(array[k].get<double>())) {
+        Fail(path, name + "." + key + "[" + std::to_string(k) + "] is not a finite number");
+      }
+      values->push_back(array[k].get<double>());
+    }
+  };
+  read_numbers("weights_row_major_in_by_out", static_cast<size_t>(layer.in) * layer.out,
+               &layer.weights);
+  read_numbers("bias", layer.out, &layer.bias);
+  return layer;
+}
+
+// Edit distance, for suggesting names close to a mistyped one.
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t next =
+          std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = row[j];
+      row[j] = next;
+    }
+  }
+  return row[b.size()];
+}
+
+// The network's input for one pair (README steps 1-3), or false below the horizon.
+// cos/sin of phi_h and theta_h come from h itself: rotating by -phi_h about z maps
+// (x, y) -> (x cos + y sin, y cos - x sin); by -theta_h about y maps
+// (x, z) -> (x cos - z sin, x sin + z cos).
+inline bool NetworkInput(const Vec3& w_i, const Vec3& w_o, double* x, int stride) {
+  if (w_i.z <= 0 || w_o.z <= 0) return false;
+  const Vec3 h = Normalize(w_i + w_o);
+  const double sin_h = std::sqrt(h.x * h.x + h.y * h.y);
+  const double cos_h = h.z;
+  double cos_phi = 1.0, sin_phi = 0.0;
+  if (sin_h > 0) {
+    cos_phi = h.x / sin_h;
+    sin_phi = h.y / sin_h;
+  }
+  const double tx = w_i.x * cos_phi + w_i.y * sin_phi;
+  const double ty = w_i.y * cos_phi - w_i.x * sin_phi;
+  x[0 * stride] = sin_h;
+  x[1 * stride] = 0.0;
+  x[2 * stride] = cos_h;
+  x[3 * stride] = tx * cos_h - w_i.z * sin_h;
+  x[4 * stride] = ty;
+  x[5 * stride] = tx * sin_h + w_i.z * cos_h;
+  return true;
+}
+
+// dst[j][k] = act(b[j] + sum_i w_t[j][i] src[i][k]) for the pairs k < tiles * kWidth, with
+// rows `stride` apart. The kWidth accumulators are an Eigen fixed-size array, which Eigen keeps
+// in vector registers across the sum over i.
+template <int kWidth>
+void Dense(const NbrdfNetwork::Layer& layer, const std::vector<double>& w_t, const double* src,
+           double* dst, int stride, int tiles, bool relu) {
+  using Tile = Eigen::Array<double, kWidth, 1>;
+  for (int tile = 0; tile < tiles; ++tile) {
+    const int k0 = tile * kWidth;
+    for (int j = 0; j < layer.out; ++j) {
+      const double* w = &w_t[static_cast<size_t>(j) * layer.in];
+      Tile acc = Tile::Constant(layer.bias[j]);
+      for (int i = 0; i < layer.in; ++i) {
+        acc += w[i] * Eigen::Map<const Tile>(src + static_cast<size_t>(i) * stride + k0);
+      }
+      Eigen::Map<Tile> out(dst + static_cast<size_t>(j) * stride + k0);
+      if (relu) {
+        out = acc.max(0.0);
+      } else {
+        out = acc;
+      }
+    }
+  }
+}
+
+// Transposed weights (out x in), so that a neuron's weights are contiguous.
+std::vector<double> Transposed(const NbrdfNetwork::Layer& layer) {
+  std::vector<double> t(layer.weights.size());
+  for (int i = 0; i < layer.in; ++i) {
+    for (int j = 0; j < layer.out; ++j) {
+      t[static_cast<size_t>(j) * layer.in + i] =
+          layer.weights[static_cast<size_t>(i) * layer.out + j];
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+NbrdfNetwork ReadNbrdfNetwork(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) Fail(path, "cannot open it; check the path and permissions");
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(file);
+  } catch (const nlohmann::json::exception& e) {
+    Fail(path, std::string("not valid JSON (") + e.what() + ")");
+  }
+  if (!json.is_object() || !json.contains("format") || json["format"] != kFormat) {
+    Fail(path,
+         std::string("\"format\" must be \"") + kFormat + "\" (see data/materials/README.md)");
+  }
+  if (!json.contains("layers") || !json["layers"].is_array() || json["layers"].size() != 3) {
+    Fail(path, "\"layers\" must be an array of 3 dense layers");
+  }
+  NbrdfNetwork network;
+  if (json.contains("material") && json["material"].is_string()) {
+    network.material = json["material"].get<std::string>();
+  }
+  for (int k = 0; k < 3; ++k) network.layers[k] = ReadLayer(path, json["layers"][k], k);
+  const auto& layers = network.layers;
+  if (layers[0].in != kInputs) {
+    Fail(path, "layers[0].in is " + std::to_string(layers[0].in) + ", expected 6 inputs");
+  }
+  if (layers[2].out != kOutputs) {
+    Fail(path, "layers[2].out is " + std::to_string(layers[2].out) + ", expected 3 (RGB)");
+  }
+  for (int k = 1; k < 3; ++k) {
+    if (layers[k].in != layers[k - 1].out) {
+      Fail(path, "layers[" + std::to_string(k) + "].in is " + std::to_string(layers[k].in) +
+                     " but layers[" + std::to_string(k - 1) + "].out is " +
+                     std::to_string(layers[k - 1].out));
+    }
+    if (layers[k].in > kMaxHidden) {
+      Fail(path, "hidden layer " + std::to_string(k) + " has " + std::to_string(layers[k].in) +
+                     " units; at most 256 are supported");
+    }
+  }
+  return network;
+}
+
+std::vector<std::string> BundledMaterialNames() {
+  const std::string folder = DataPath(kBundledFolder);
+  std::error_code error;
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
+  }
+  if (error) {
+    throw InputError("bundled materials folder " + folder + " cannot be read (" + error.message() +
+                     "); set ZBRDF_DATA_DIR to a zbrdf source tree");
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec)
+    : network_(std::move(network)), spec_(std::move(spec)) {
+  // Validates the chain again for networks built in code rather than read from a file.
+  const auto& layers = network_.layers;
+  ZBRDF_ASSERT(layers[0].in == kInputs && layers[2].out == kOutputs &&
+                   layers[1].in == layers[0].out && layers[2].in == layers[1].out &&
+                   layers[1].in <= kMaxHidden && layers[2].in <= kMaxHidden,
+               "NbrdfBrdf: layer sizes must chain 6 -> hidden (<= 256) -> hidden -> 3");
+  for (int k = 0; k < 3; ++k) {
+    ZBRDF_ASSERT(layers[k].weights.size() == static_cast<size_t>(layers[k].in) * layers[k].out &&
+                     layers[k].bias.size() == static_cast<size_t>(layers[k].out),
+                 "NbrdfBrdf: weight or bias count does not match the layer size");
+    transposed_[k] = Transposed(layers[k]);
+  }
+  sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
+}
+
+std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name) {
+  const std::vector<std::string> names = BundledMaterialNames();
+  if (!std::binary_search(names.begin(), names.end(), name)) {
+    std::vector<std::pair<size_t, std::string>> close;
+    for (const std::string& candidate : names) {
+      const size_t distance = EditDistance(name, candidate);
+      if (distance <= std::max<size_t>(2, name.size() / 3)) close.emplace_back(distance, candidate);
+    }
+    std::sort(close.begin(), close.end());
+    std::string message = "unknown measured material '" + name + "'";
+    for (size_t k = 0; k < std::min<size_t>(close.size(), 3); ++k) {
+      message += (k == 0 ? "; did you mean '" : " or '") + close[k].second + "'";
+    }
+    message += (close.empty() ? "; the " : "? The ") + std::to_string(names.size()) +
+               " bundled materials are the NAME.json files in " + DataPath(kBundledFolder) +
+               "; use merl:NAME with one of those names";
+    throw InputError(message);
+  }
+  return std::make_unique<NbrdfBrdf>(
+      ReadNbrdfNetwork(DataPath(std::string(kBundledFolder) + "/" + name + ".json")),
+      "merl:" + name);
+}
+
+std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromFile(const std::string& path) {
+  return std::make_unique<NbrdfBrdf>(ReadNbrdfNetwork(path), "file:" + path);
+}
+
+void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count,
+                          double* scratch) const {
+  // Structure-of-arrays scratch: each row holds one feature for the kBlock pairs. Rows past
+  // `count` and of pairs below the horizon hold stale finite values; their results are dropped.
+  const int hidden1 = network_.layers[0].out, hidden2 = network_.layers[1].out;
+  double* x = scratch;
+  double* a1 = x + kInputs * kBlock;
+  double* a2 = a1 + hidden1 * kBlock;
+  double* y = a2 + hidden2 * kBlock;
+  bool valid[kBlock];
+  for (int k = 0; k < count; ++k) valid[k] = NetworkInput(w_i[k], w_o[k], x + k, kBlock);
+  const int tiles = (count + kTile - 1) / kTile;
+  Dense<kTile>(network_.layers[0], transposed_[0], x, a1, kBlock, tiles, true);
+  Dense<kTile>(network_.layers[1], transposed_[1], a1, a2, kBlock, tiles, true);
+  Dense<kTile>(network_.layers[2], transposed_[2], a2, y, kBlock, tiles, false);
+  for (int k = 0; k < count; ++k) {
+    if (!valid[k]) {
+      f[k] = Rgb();
+      continue;
+    }
+    for (int c = 0; c < kOutputs; ++c) {
+      f[k][c] = std::max(std::exp(y[c * kBlock + k]) - 1.0, 0.0);
+    }
+  }
+}
+
+Rgb NbrdfBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
+  double x[kInputs];
+  if (!NetworkInput(w_i, w_o, x, 1)) return {};
+  double a1[kMaxHidden], a2[kMaxHidden], y[kOutputs];
+  Dense<1>(network_.layers[0], transposed_[0], x, a1, 1, 1, true);
+  Dense<1>(network_.layers[1], transposed_[1], a1, a2, 1, 1, true);
+  Dense<1>(network_.layers[2], transposed_[2], a2, y, 1, 1, false);
+  return {std::max(std::exp(y[0]) - 1.0, 0.0), std::max(std::exp(y[1]) - 1.0, 0.0),
+          std::max(std::exp(y[2]) - 1.0, 0.0)};
+}
+
+void NbrdfBrdf::EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                          std::span<Rgb> f) const {
+  ZBRDF_ASSERT(w_i.size() == w_o.size() && w_i.size() == f.size(), "EvalBatch size mismatch");
+  const size_t rows = kInputs + network_.layers[0].out + network_.layers[1].out + kOutputs;
+  std::vector<double> scratch(rows * kBlock, 0.0);
+  for (size_t start = 0; start < w_i.size(); start += kBlock) {
+    const int count = static_cast<int>(std::min<size_t>(kBlock, w_i.size() - start));
+    EvalBlock(&w_i[start], &w_o[start], &f[start], count, scratch.data());
+  }
+}
+
+BrdfSample NbrdfBrdf::Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const {
+  return sampler_->Sample(w_o, u_lobe, u0, u1);
+}
+
+double NbrdfBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const { return sampler_->Pdf(w_o, w_i); }
+
+double NbrdfBrdf::GlossyProbability(const Vec3& w_o) const {
+  return w_o.z > 0 ? sampler_->LobeProbability(w_o) : 0.0;
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,162 @@
+#include "brdf/proxy_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace zbrdf {
+namespace {
+
+constexpr int kCells = 128;
+constexpr int kProbes = 11;
+constexpr double kProbeStep = 0.15;  // theta_o = 0, 0.15, ..., 1.5 rad
+constexpr int kAzimuths = 6;         // phi_h relative to w_o: 0, 30, ..., 150 deg (symmetric)
+constexpr double kMinProbability = 0.05, kMaxProbability = 0.95;
+
+// Luminance of f_r, with negative or invalid values treated as 0.
+double Level(const Brdf& brdf, const Vec3& w_i, const Vec3& w_o) {
+  const double y = brdf.Eval(w_i, w_o).Luminance();
+  return std::isfinite(y) ? std::max(0.0, y) : 0.0;
+}
+
+}  // namespace
+
+HalfVectorProxySampler::HalfVectorProxySampler(const Brdf& brdf) {
+  theta_edges_.resize(kCells + 1);
+  cos_edges_.resize(kCells + 1);
+  for (int k = 0; k <= kCells; ++k) {
+    const double x = static_cast<double>(k) / kCells;
+    theta_edges_[k] = 0.5 * M_PI * x * x;
+    cos_edges_[k] = std::cos(theta_edges_[k]);
+  }
+  cos_edges_[kCells] = 0.0;
+  probes_.resize(kProbes);
+  for (int p = 0; p < kProbes; ++p) {
+    Probe& probe = probes_[p];
+    probe.theta_o_rad = p * kProbeStep;
+    const Vec3 w_o = SphericalDirection(probe.theta_o_rad, 0.0);
+    // Mean level per theta_h cell over the azimuths where w_i stays above the horizon.
+    std::vector<double> level(kCells, 0.0);
+    std::vector<bool> seen(kCells, false);
+    for (int k = 0; k < kCells; ++k) {
+      const double theta_h = 0.5 * (theta_edges_[k] + theta_edges_[k + 1]);
+      double sum = 0;
+      int count = 0;
+      for (int a = 0; a < kAzimuths; ++a) {
+        const Vec3 h = SphericalDirection(theta_h, M_PI * a / kAzimuths);
+        const Vec3 w_i = ReflectAboutHalfVector(w_o, h);
+        if (w_i.z <= 1e-3) continue;
+        sum += Level(brdf, w_i, w_o);
+        ++count;
+      }
+      if (count > 0) {
+        level[k] = sum / count;
+        seen[k] = true;
+      }
+    }
+    double floor = INFINITY;
+    for (int k = 0; k < kCells; ++k) {
+      if (seen[k]) floor = std::min(floor, level[k]);
+    }
+    if (!std::isfinite(floor)) floor = 0;
+    probe.lobe_levels.assign(kCells, 0.0);
+    std::vector<double> weights(kCells, 0.0);
+    double lobe_albedo = 0;
+    for (int k = 0; k < kCells; ++k) {
+      if (!seen[k]) continue;
+      probe.lobe_levels[k] = std::max(0.0, level[k] - floor);
+      const double solid_angle = 2 * M_PI * (cos_edges_[k] - cos_edges_[k + 1]);
+      weights[k] = probe.lobe_levels[k] * solid_angle;
+      // Albedo of the lobe: integral e cos(theta_i) dw_i with dw_i = 4 |w_o.h| dw_h; the
+      // azimuthal mean of cos(theta_i) |w_o.h| is approximated at the cell's first azimuth.
+      const double theta_h = 0.5 * (theta_edges_[k] + theta_edges_[k + 1]);
+      const Vec3 h = SphericalDirection(theta_h, 0.0);
+      const Vec3 w_i = ReflectAboutHalfVector(w_o, h);
+      if (w_i.z > 0) lobe_albedo += probe.lobe_levels[k] * w_i.z * 4 * Dot(w_o, h) * solid_angle;
+    }
+    double weight_sum = 0;
+    for (double w : weights) weight_sum += w;
+    if (weight_sum > 0 && lobe_albedo > 0) {
+      probe.cells = std::make_unique<Distribution1D>(weights);
+      probe.cell_density.resize(kCells);
+      for (int k = 0; k < kCells; ++k) probe.cell_density[k] = probe.lobe_levels[k] / weight_sum;
+      const double floor_albedo = floor * M_PI;
+      probe.lobe_probability = std::clamp(lobe_albedo / (lobe_albedo + floor_albedo),
+                                          kMinProbability, kMaxProbability);
+    }
+  }
+}
+
+void HalfVectorProxySampler::Bracket(double theta_o_rad, int* k, double* a_k) const {
+  const double t = std::clamp(theta_o_rad / kProbeStep, 0.0, kProbes - 1.0);
+  *k = std::min(static_cast<int>(t), kProbes - 2);
+  *a_k = 1.0 - (t - *k);
+}
+
+Vec3 HalfVectorProxySampler::SampleHalfVector(const Probe& probe, double u0, double u1) const {
+  double u_within = 0;
+  const int k = probe.cells->SampleDiscrete(u0, nullptr, &u_within);
+  const double cos_theta = cos_edges_[k] + u_within * (cos_edges_[k + 1] - cos_edges_[k]);
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  const double phi = 2.0 * M_PI * u1;
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+double HalfVectorProxySampler::CellDensity(const Probe& probe, const Vec3& h) const {
+  if (!probe.cells || h.z < 0) return 0.0;
+  // Cell of theta_h: x = sqrt(theta_h / (pi/2)).
+  const double x = std::sqrt(SphericalTheta(h) / (0.5 * M_PI));
+  const int k = std::clamp(static_cast<int>(x * kCells), 0, kCells - 1);
+  return probe.cell_density[k];
+}
+
+double HalfVectorProxySampler::LobeProbability(const Vec3& w_o) const {
+  if (w_o.z <= 0) return 0.0;
+  int k;
+  double a;
+  Bracket(SphericalTheta(w_o), &k, &a);
+  return a * probes_[k].lobe_probability + (1 - a) * probes_[k + 1].lobe_probability;
+}
+
+double HalfVectorProxySampler::HalfVectorPdf(double theta_o_rad, const Vec3& h) const {
+  int k;
+  double a;
+  Bracket(theta_o_rad, &k, &a);
+  const double pk = a * probes_[k].lobe_probability;
+  const double pk1 = (1 - a) * probes_[k + 1].lobe_probability;
+  if (!(pk + pk1 > 0)) return 0.0;
+  return (pk * CellDensity(probes_[k], h) + pk1 * CellDensity(probes_[k + 1], h)) / (pk + pk1);
+}
+
+BrdfSample HalfVectorProxySampler::Sample(const Vec3& w_o, double u_lobe, double u0,
+                                          double u1) const {
+  BrdfSample s;
+  if (w_o.z <= 0) return s;
+  int k;
+  double a;
+  Bracket(SphericalTheta(w_o), &k, &a);
+  const double pk = a * probes_[k].lobe_probability;
+  const double pk1 = (1 - a) * probes_[k + 1].lobe_probability;
+  if (u_lobe < pk + pk1) {
+    // A lobe, chosen in proportion to a_j P_j.
+    const Probe& probe = u_lobe < pk ? probes_[k] : probes_[k + 1];
+    s.w_i = ReflectAboutHalfVector(w_o, SampleHalfVector(probe, u0, u1));
+  } else {
+    s.w_i = SampleCosineHemisphere(u0, u1);
+  }
+  s.pdf = Pdf(w_o, s.w_i);
+  return s;
+}
+
+double HalfVectorProxySampler::Pdf(const Vec3& w_o, const Vec3& w_i) const {
+  if (w_o.z <= 0) return 0.0;
+  const double theta_o = SphericalTheta(w_o);
+  const double p = LobeProbability(w_o);
+  double lobe = 0;
+  Vec3 h;
+  if (p > 0 && UpperHalfVector(w_i, w_o, &h)) {
+    lobe = HalfVectorToIncidentPdf(HalfVectorPdf(theta_o, h), w_o, h);
+  }
+  return p * lobe + (1.0 - p) * CosineHemispherePdf(w_i);
+}
+
+}  // namespace zbrdf
