@@ -333,6 +333,15 @@ std::vector<std::string> MaterialModelNames() {
   return names;
 }
 
+std::string MaterialShortName(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  if (colon == std::string::npos) return spec;
+  const std::string model = Lower(spec.substr(0, colon));
+  if (model == "merl") return spec.substr(colon + 1);
+  if (model == "file") return std::filesystem::path(spec.substr(colon + 1)).stem().string();
+  return model;
+}
+
 std::string MaterialSpecHelp() {
   std::string help =
       "Material specs, MODEL:PARAMETERS (colours are one value or r,g,b; upper-case names are\n"

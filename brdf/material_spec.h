@@ -46,6 +46,9 @@ std::unique_ptr<Brdf> MakeBrdf(const std::string& spec);
 
 // The model names MakeBrdf accepts ("lambert", "blinn-phong", ...), in help order.
 std::vector<std::string> MaterialModelNames();
+// A short name of a spec for titles and file names: "merl:blue-acrylic" -> "blue-acrylic",
+// "file:dir/gold.binary" -> "gold", "ggx:alpha=0.2" -> "ggx" (the model, lower case).
+std::string MaterialShortName(const std::string& spec);
 
 // Help text for --help: the syntax of every model with its parameters and defaults, and the
 // names of the bundled measured materials.

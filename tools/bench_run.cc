@@ -26,7 +26,7 @@
 #include "simulate/virtual_rig.h"
 #include "tools/fit_all.h"
 #include "tools/fit_session.h"
-#include "tools/material_ball.h"
+#include "pictures/material_ball.h"
 #include "tools/sh_conversion.h"
 
 namespace zbrdf {

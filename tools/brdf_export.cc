@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "acquisition/session_brdf.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "brdf/brdf_explorer.h"

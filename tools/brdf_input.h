@@ -1,20 +1,16 @@
 // The INPUT argument of `zbrdf export`, `eval`, `preview`, `plot` and `compare`: anything that
 // names a BRDF, resolved in one place.
 //
-//   a session folder     its D-BRDF fit (fit-dbrdf.exr), else its analytic fit (fit-<model>.json,
-//                        the first by name that holds a model), else its SH conversion (sh.exr,
-//                        else sh-<target>.exr as zbrdf convert names it)
-//   NAME.exr             a zbrdf SH file or D-BRDF file, told apart by the zbrdf.format header
-//   NAME.binary          a MERL table                NAME.json   a network file or a fit
-//   NAME.bsdf            an RGL file (rgb or spectral)   NAME.brdf  a BRDF Explorer file
-//                        written by zbrdf export
+//   a session folder     its D-BRDF fit, else its analytic fit, else its SH conversion
+//                        (acquisition/session_brdf.h)
+//   a file               any format brdf/brdf_file.h reads: .exr (SH or D-BRDF), .binary
+//                        (MERL), .json (network or fit), .bsdf (RGL), .brdf (BRDF Explorer)
 //   anything else        a material spec (lambert:0.18, ggx:alpha=0.2, merl:blue-acrylic, ...)
 // An existing path wins over a spec of the same spelling.
 #pragma once
 
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "brdf/brdf.h"
 
@@ -35,12 +31,6 @@ struct BrdfInput {
 // which files it looked for and which command makes them; a string that is neither an existing
 // path nor a valid spec reports the spec's error.
 BrdfInput ResolveBrdfInput(const std::string& input);
-
-// The files of a session folder that hold a BRDF, in the order ResolveBrdfInput prefers them
-// (only those that exist).
-std::vector<std::string> SessionBrdfFiles(const std::string& session_dir);
-// Its SH conversions: sh.exr, then sh-<target>.exr by name.
-std::vector<std::string> SessionShFiles(const std::string& session_dir);
 
 // The INPUT paragraph for --help.
 std::string BrdfInputHelp();

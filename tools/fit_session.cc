@@ -12,7 +12,7 @@
 #include "brdf/dbrdf_file.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
-#include "tools/brdf_figure.h"
+#include "pictures/brdf_figure.h"
 #include "tools/sh_conversion.h"
 
 namespace zbrdf {

@@ -157,5 +157,13 @@ TEST(MaterialSpecTest, HelpListsModelsAndBundledMaterials) {
   }
 }
 
+TEST(MaterialSpecTest, ShortNamesForTitlesAndFiles) {
+  EXPECT_EQ(MaterialShortName("merl:blue-acrylic"), "blue-acrylic");
+  EXPECT_EQ(MaterialShortName("MERL:blue-acrylic"), "blue-acrylic");
+  EXPECT_EQ(MaterialShortName("file:some/dir/gold.binary"), "gold");
+  EXPECT_EQ(MaterialShortName("GGX:alpha=0.2,F0=0.04"), "ggx");
+  EXPECT_EQ(MaterialShortName("lambert"), "lambert");
+}
+
 }  // namespace
 }  // namespace zbrdf

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "acquisition/session_brdf.h"
 #include "basis/error.h"
 #include "brdf/brdf_explorer.h"
 #include "brdf/dbrdf.h"
@@ -13,7 +14,7 @@
 #include "brdf/nbrdf.h"
 #include "brdf/rgl_bsdf.h"
 #include "brdf/sh_brdf.h"
-#include "session_fixture.h"
+#include "tests/acquisition/session_fixture.h"
 #include "tools/brdf_export.h"
 #include "tools_test_util.h"
 

@@ -10,8 +10,8 @@
 #include "acquisition/zonal.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/material_spec.h"
-#include "session_fixture.h"
-#include "tools/image.h"
+#include "pictures/image.h"
+#include "tests/acquisition/session_fixture.h"
 #include "tools_test_util.h"
 
 namespace zbrdf {

@@ -12,8 +12,8 @@
 #include <set>
 
 #include "basis/error.h"
+#include "pictures/image.h"
 #include "simulated_sessions.h"
-#include "tools/image.h"
 
 namespace zbrdf {
 namespace {

@@ -6,11 +6,11 @@
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
-#include "tools/brdf_compare.h"
+#include "pictures/brdf_compare.h"
 #include "tools/brdf_input.h"
 #include "tools/cli/command.h"
 #include "tools/cli/preview_flags.h"
-#include "tools/image.h"
+#include "pictures/image.h"
 
 namespace zbrdf::cli {
 namespace {

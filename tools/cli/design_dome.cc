@@ -10,7 +10,7 @@
 #include "basis/zone.h"
 #include "rig/optics.h"
 #include "tools/cli/command.h"
-#include "tools/dome_drawing.h"
+#include "pictures/dome_drawing.h"
 
 namespace zbrdf::cli {
 namespace {

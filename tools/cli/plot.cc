@@ -5,15 +5,16 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "acquisition/session_brdf.h"
 #include "acquisition/zonal.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_file.h"
+#include "pictures/brdf_plots.h"
+#include "pictures/image.h"
 #include "tools/brdf_input.h"
-#include "tools/brdf_plots.h"
 #include "tools/cli/command.h"
-#include "tools/image.h"
 
 namespace zbrdf::cli {
 namespace {

@@ -8,8 +8,8 @@
 #include "tools/brdf_input.h"
 #include "tools/cli/command.h"
 #include "tools/cli/preview_flags.h"
-#include "tools/image.h"
-#include "tools/material_ball.h"
+#include "pictures/image.h"
+#include "pictures/material_ball.h"
 
 namespace zbrdf::cli {
 namespace {

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "tools/cli/command.h"
-#include "tools/environment.h"
-#include "tools/material_ball.h"
+#include "pictures/environment.h"
+#include "pictures/material_ball.h"
 
 namespace zbrdf::cli {
 

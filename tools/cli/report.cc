@@ -5,7 +5,7 @@
 
 #include "basis/atomic_file.h"
 #include "tools/cli/command.h"
-#include "tools/html_report.h"
+#include "pictures/html_report.h"
 
 namespace zbrdf::cli {
 namespace {

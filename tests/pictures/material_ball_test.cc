@@ -1,7 +1,7 @@
 // Material-ball rendering: the furnace test, a closed form under a directional light,
 // environment sampling, and the comparison of D-BRDF and cosine sampling of the thesis's
 // figure 3.11.
-#include "tools/material_ball.h"
+#include "pictures/material_ball.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,7 @@
 #include "brdf/dbrdf.h"
 #include "brdf/ggx.h"
 #include "brdf/material_spec.h"
-#include "tools/environment.h"
-#include "tools_test_util.h"
+#include "pictures/environment.h"
 
 namespace zbrdf {
 namespace {

@@ -1,11 +1,11 @@
 // Environment maps: the sampler's density, and the built-in sky's sun.
-#include "tools/environment.h"
+#include "pictures/environment.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "tools_test_util.h"
+#include "tests/brdf/brdf_checks.h"
 
 namespace zbrdf {
 namespace {

@@ -1,4 +1,4 @@
-#include "tools/brdf_plots.h"
+#include "pictures/brdf_plots.h"
 
 #include <algorithm>
 #include <cmath>

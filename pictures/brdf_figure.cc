@@ -1,4 +1,4 @@
-#include "tools/brdf_figure.h"
+#include "pictures/brdf_figure.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "tools/material_ball.h"
+#include "pictures/material_ball.h"
 
 #include <cmath>
 

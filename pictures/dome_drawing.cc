@@ -1,4 +1,4 @@
-#include "tools/dome_drawing.h"
+#include "pictures/dome_drawing.h"
 
 #include <cmath>
 #include <cstdio>

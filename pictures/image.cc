@@ -1,4 +1,4 @@
-#include "tools/image.h"
+#include "pictures/image.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>

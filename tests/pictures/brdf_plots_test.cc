@@ -1,5 +1,5 @@
 // Polar slices and band energy.
-#include "tools/brdf_plots.h"
+#include "pictures/brdf_plots.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,7 @@
 #include "acquisition/zonal.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/material_spec.h"
-#include "session_fixture.h"
-#include "tools_test_util.h"
+#include "tests/acquisition/session_fixture.h"
 
 namespace zbrdf {
 namespace {

@@ -9,8 +9,8 @@
 
 #include "brdf/brdf.h"
 #include "brdf/brdf_metrics.h"
-#include "tools/environment.h"
-#include "tools/material_ball.h"
+#include "pictures/environment.h"
+#include "pictures/material_ball.h"
 
 namespace zbrdf {
 

@@ -19,7 +19,7 @@
 
 #include "basis/vec3.h"
 #include "brdf/sampling.h"
-#include "tools/image.h"
+#include "pictures/image.h"
 
 namespace zbrdf {
 

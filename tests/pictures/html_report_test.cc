@@ -1,5 +1,5 @@
 // The session report page, the plots it embeds, and the commands that people run.
-#include "tools/html_report.h"
+#include "pictures/html_report.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +12,10 @@
 #include "basis/error.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/material_spec.h"
-#include "session_fixture.h"
-#include "tools/brdf_plots.h"
-#include "tools/image.h"
-#include "tools_test_util.h"
+#include "pictures/brdf_plots.h"
+#include "pictures/image.h"
+#include "tests/acquisition/session_fixture.h"
+#include "tests/test_files.h"
 
 namespace zbrdf {
 namespace {

@@ -1,4 +1,4 @@
-#include "tools/environment.h"
+#include "pictures/environment.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "tools/html_report.h"
+#include "pictures/html_report.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,16 +7,16 @@
 #include <fstream>
 #include <sstream>
 
+#include "acquisition/session_brdf.h"
 #include "acquisition/zonal.h"
 #include "basis/error.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_file.h"
-#include "tools/brdf_compare.h"
-#include "tools/brdf_input.h"
-#include "tools/brdf_plots.h"
-#include "tools/environment.h"
-#include "tools/image.h"
-#include "tools/material_ball.h"
+#include "pictures/brdf_compare.h"
+#include "pictures/brdf_plots.h"
+#include "pictures/environment.h"
+#include "pictures/image.h"
+#include "pictures/material_ball.h"
 
 namespace zbrdf {
 namespace {
@@ -269,9 +269,9 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
   std::shared_ptr<const Brdf> fitted, truth;
   std::string fitted_what, truth_spec;
   try {
-    const BrdfInput input = ResolveBrdfInput(dir);
-    fitted = input.brdf;
-    fitted_what = input.description;
+    const BrdfFile file = ReadSessionBrdf(dir);
+    fitted = file.brdf;
+    fitted_what = "session " + dir + ": " + file.description;
   } catch (const InputError& e) {
     page.notes.push_back(e.what());
     body += "<div class=\"note\">" + HtmlEscape(e.what()) + "</div>\n";

@@ -1,6 +1,7 @@
-// Synthetic session folders for the tools tests: session.json, report.json, zonal.exr with
-// known coefficients, and the files a fit or conversion leaves (fit-dbrdf.exr, fit-<model>.json,
-// sh.exr), written through the same writers the pipeline uses.
+// Synthetic session folders for the tests of what reads one (acquisition/, pictures/, tools/):
+// session.json, report.json, zonal.exr with known coefficients, and the files a fit or
+// conversion leaves (fit-dbrdf.exr, fit-<model>.json, sh.exr), written through the same writers
+// the pipeline uses.
 #pragma once
 
 #include <fstream>

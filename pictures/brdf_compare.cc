@@ -1,10 +1,10 @@
-#include "tools/brdf_compare.h"
+#include "pictures/brdf_compare.h"
 
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
-#include "tools/image.h"
+#include "pictures/image.h"
 
 namespace zbrdf {
 namespace {

@@ -21,8 +21,8 @@
 #include <optional>
 
 #include "brdf/brdf.h"
-#include "tools/environment.h"
-#include "tools/image.h"
+#include "pictures/environment.h"
+#include "pictures/image.h"
 
 namespace zbrdf {
 
