@@ -1,6 +1,6 @@
 // High-dynamic-range merge of an exposure bracket of raw frames.
 //
-// Linear sensor model (DESIGN.md section 4): a sample v of a pixel exposed for t seconds gives
+// Linear sensor model (docs/design.md section 4): a sample v of a pixel exposed for t seconds gives
 // the photo-electron rate estimate x = (v - black) g / t (g in e-/DN), with variance
 // (X t + sigma_read^2 + g^2 / 12) / t^2 for the true rate X. Samples at or above the safe
 // saturation level (95% of the way from black to saturation) are dropped. Each pixel's rate is

@@ -134,7 +134,7 @@ ConditioningReport AnalyzeConditioning(const ConditioningOptions& options) {
         std::sqrt((e_cap + e_band) / (norm_cap + norm_band));
   }
 
-  // Advice (DESIGN.md section 3, items 4 and 5).
+  // Advice (docs/design.md section 3, items 4 and 5).
   if (report.has_outside && report.noisy_roundtrip_error_outside_zone > 0.1) {
     report.warnings.push_back(
         "outside the zone the data determine only about " +

@@ -3,7 +3,7 @@
 //
 // For a zone, a ZB order L and a target basis of order L2 it reports how exactly the ZB is
 // integrated, how ill-conditioned the target's Gram matrix on the zone is (per |m|), the Shannon
-// number (how many target functions the zone can determine, DESIGN.md section 3 item 1), the
+// number (how many target functions the zone can determine, docs/design.md section 3 item 1), the
 // conversion's noise gain and truncated components at tau, and a round trip of a random
 // band-limited function (fixed seed): its ZB moments by quadrature, converted back, compared
 // with the function inside the zone and over the rest of the upper hemisphere.

@@ -3,7 +3,7 @@
 // The ZB coefficients of a function f are its moments z_j = integral_Z f Z_j dw. For f in the
 // span of the target functions, f = sum_i y_i T_i, they are z = M y with M = B^T,
 // B_ij = integral_Z T_i Z_j dw (gram.h). We recover y = M^+ z by a truncated SVD of M,
-// block by block in |m| (DESIGN.md section 3, item 3). Never the normal equations, and never
+// block by block in |m| (docs/design.md section 3, item 3). Never the normal equations, and never
 // the thesis's dual-basis formula y = G^-1 B z, which is biased (item 2).
 //
 // Apply() uses the factored form y = V (Sigma^-1 (U^T z)) block by block: rounding errors then

@@ -2,7 +2,7 @@
 //
 // Every function here has azimuthal factor 1, sqrt(2) cos(m phi) or sqrt(2) sin(|m| phi), so
 // inner products between functions of different m (or of cos and sin type) vanish, and the
-// matrices are block-diagonal by m with the +m and -m blocks equal (DESIGN.md section 3, item
+// matrices are block-diagonal by m with the +m and -m blocks equal (docs/design.md section 3, item
 // 1: by |m|, not by degree l as the thesis says). Each block is
 //   integral_Z f_i f_j dw = 2 pi integral_a^b f_i(x) f_j(x) dx
 // with f the theta factors. Blocks are indexed by the degrees present for that |m|, ascending.

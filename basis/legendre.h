@@ -9,8 +9,9 @@
 // Method: sectoral seed Pbar_m^m from Pbar_{m-1}^{m-1}, then the three-term recurrence in l
 // (e.g. Holmes & Featherstone 2002). The factorial ratio is never formed. The caller passes
 // s = sqrt(1 - x^2) separately, so that the zonal basis can form it without cancellation near
-// the zone edges (DESIGN.md section 3). Accuracy: the values are correctly rounded doubles of the extended-precision recurrence,
-// absolute error <= 1e-14 for l <= 60 (5e-15 measured, from the rounding of s^m).
+// the zone edges (docs/design.md section 3). Accuracy: the values are correctly rounded doubles
+// of the extended-precision recurrence, absolute error <= 1e-14 for l <= 60 (5e-15 measured, from
+// the rounding of s^m).
 #pragma once
 
 namespace zbrdf {

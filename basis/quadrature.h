@@ -1,6 +1,6 @@
 // Quadrature rules on [-1, 1], on a zone's cos(theta) range, and over a zone of the sphere.
 //
-// Exactness (DESIGN.md section 3): the product rule of n_theta Gauss-Legendre nodes in
+// Exactness (docs/design.md section 3): the product rule of n_theta Gauss-Legendre nodes in
 // cos(theta) and n_phi trapezoid points in phi integrates exactly any product of two SH (or two
 // ZB) functions of order <= L when n_theta >= L + 1 and n_phi >= 2L + 1. Mixed products Y x Z
 // with odd m are not polynomial in cos(theta); for those use Gauss-Legendre in psi, where

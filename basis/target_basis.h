@@ -1,4 +1,4 @@
-// The bases zonal coefficients are converted to (DESIGN.md section 3, items 3-4).
+// The bases zonal coefficients are converted to (docs/design.md section 3, items 3-4).
 //
 //   sh       all real SH Y_lm, l <= order.
 //   sh-even  Y_lm with l + m even: even under z -> -z, the even extension below the horizon.

@@ -3,7 +3,7 @@
 // With a = cos(theta_max), b = cos(theta_min) and the virtual-sphere coordinate
 //   t = (2 cos(theta) - a - b) / (b - a)  in [-1, 1],
 //   Z_lm(theta, phi) = sqrt(2 / (b - a)) Y_lm(arccos t, phi)   inside the zone, 0 outside.
-// The Z_lm are exactly orthonormal over the zone (DESIGN.md section 3); for the zone
+// The Z_lm are exactly orthonormal over the zone (docs/design.md section 3); for the zone
 // [0, 90] deg they are the hemispherical harmonics (Gautron et al. 2004).
 //
 // Edge accuracy: 1 - t = 2 (b - x) / (b - a) and 1 + t = 2 (x - a) / (b - a) are formed

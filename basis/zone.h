@@ -1,6 +1,6 @@
 // A spherical zone of directions: theta in [theta_min, theta_max], all azimuths.
 //
-// The rig measures incident and exitant directions over one such zone (DESIGN.md section 1).
+// The rig measures incident and exitant directions over one such zone (docs/design.md section 1).
 // Angles are radians from the sample normal (+z); zones lie in the upper hemisphere.
 #pragma once
 

@@ -1,9 +1,9 @@
 // The BRDF interface every material and fitted model implements.
 //
-// Conventions (DESIGN.md section 2): directions are unit vectors in the sample frame (normal +z,
-// azimuth from +x); w_i points toward the light, w_o toward the viewer; f_r is in 1/sr, linear
-// RGB, and does NOT include any cosine. Eval returns 0 when either direction is below the
-// horizon (z <= 0).
+// Conventions (docs/design.md section 2): directions are unit vectors in the sample frame
+// (normal +z, azimuth from +x); w_i points toward the light, w_o toward the viewer; f_r is in
+// 1/sr, linear RGB, and does NOT include any cosine. Eval returns 0 when either direction is
+// below the horizon (z <= 0).
 //
 // Every model can be importance-sampled: Sample() proposes w_i given w_o, and Pdf() returns the
 // solid-angle density of that proposal. The density is defined over the whole sphere of w_i

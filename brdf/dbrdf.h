@@ -1,5 +1,5 @@
 // The distribution-based BRDF (D-BRDF; Ashikhmin & Premoze 2007, "Distribution-based BRDFs";
-// Ghosh's thesis eq. 2.13, DESIGN.md section 4):
+// Ghosh's thesis eq. 2.13, docs/design.md section 4):
 //   f_r = c p(h) F(k.h) / (k1.n + k2.n - (k1.n)(k2.n)) + kd / pi
 // with k1 = w_i, k2 = w_o, h their half vector, F Schlick's Fresnel with a scalar F0, c an RGB
 // scale and p(h) a tabulated half-vector distribution normalized so that

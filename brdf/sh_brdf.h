@@ -1,7 +1,7 @@
 // A BRDF given by spherical-harmonic coefficients (sh_file.h): what `zbrdf convert` produces.
 //
 // The coefficients describe f^ = f_r cos(theta_i) (band-limited, so it rings and can be negative,
-// most of all outside the measured zone; DESIGN.md section 3). Eval returns
+// most of all outside the measured zone; docs/design.md section 3). Eval returns
 //   f_r = max(0, f^) / max(cos(theta_i), kShMinCosTheta)
 // and counts every evaluation where some channel of f^ was negative, so that clamping is never
 // silent: negative_evaluations() / evaluations() is what a renderer hid. CosineWeighted() gives

@@ -1,5 +1,5 @@
 // Fitting the D-BRDF (dbrdf.h) to measured zonal coefficients (Ghosh 2007, section 3.2.3;
-// DESIGN.md section 4: fit in coefficient space, never to a ringing SH reconstruction).
+// docs/design.md section 4: fit in coefficient space, never to a ringing SH reconstruction).
 //
 // 1. Isotropy (fit_data.h) decides the table: 1-D p(theta_h) (91 nodes, 1 deg) for isotropic
 //    data, 2-D p(theta_h, phi_h) (46 x 8 nodes) for anisotropic data.

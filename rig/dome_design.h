@@ -1,4 +1,4 @@
-// Design of the freeform dome by Euler integration of the reflector ODE (DESIGN.md section 1;
+// Design of the freeform dome by Euler integration of the reflector ODE (docs/design.md section 1;
 // Ghosh 2007, section 3.3).
 //
 // With the parabola, the camera's center of projection and the sample fixed, every camera ray

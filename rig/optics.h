@@ -5,7 +5,7 @@
 // cone frustum between consecutive profile points, found by bracketing. Dome normals are the
 // designed normals, interpolated along the profile, so a reflection obeys the law of
 // reflection about them exactly; the geometric surface and these normals differ by a fraction
-// of the Euler step. All positions in mm, in the sample frame (DESIGN.md section 2).
+// of the Euler step. All positions in mm, in the sample frame (docs/design.md section 2).
 #pragma once
 
 #include <memory>

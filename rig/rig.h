@@ -28,7 +28,7 @@ struct ParabolaParams {
 };
 
 struct DomeParams {
-  // The dome is a surface of revolution designed by the Euler integration of DESIGN.md
+  // The dome is a surface of revolution designed by the Euler integration of docs/design.md
   // section 1 (rig/dome_design.h). A built dome may stop short of the sample plane:
   double lower_edge_height_mm = 0;  // no mirror below this height (0: down to the sample plane)
   int design_steps = 20000;         // Euler steps from the rim ray to the axis

@@ -147,8 +147,8 @@ ShConversionResult ConvertToSh(const ZonalTensor& data, const ShConversionOption
     std::snprintf(text, sizeof(text),
                   "the zone %s covers %.0f%% of the hemisphere: the data determine only about "
                   "%.0f (the Shannon number) of the %d SH functions, so the SH outside the zone "
-                  "are extrapolation without a prior (DESIGN.md section 3, item 5); for what lies "
-                  "outside the zone prefer an analytic fit (zbrdf fit --model dbrdf)",
+                  "are extrapolation without a prior (docs/design.md section 3, item 5); for what "
+                  "lies outside the zone prefer an analytic fit (zbrdf fit --model dbrdf)",
                   zone.ToString().c_str(), 100 * coverage, result.shannon_number, target.size());
     result.warnings.push_back(text);
   } else if (options.target != TargetKind::kSh && coverage < 0.9) {
@@ -161,7 +161,7 @@ ShConversionResult ConvertToSh(const ZonalTensor& data, const ShConversionOption
   if (options.target == TargetKind::kSh && zone.theta_max_rad() >= DegToRad(89.0)) {
     result.warnings.push_back("the zone reaches the horizon: a hemispherical target (sh-odd for "
                               "cosine-weighted data, or hsh) is far better conditioned than all "
-                              "SH (DESIGN.md section 3, item 4)");
+                              "SH (docs/design.md section 3, item 4)");
   }
   if (result.diagnostics.truncated_components > 0) {
     std::snprintf(text, sizeof(text),

@@ -1,6 +1,6 @@
 // Zonal data to spherical harmonics (`zbrdf convert --to sh`): the tensor-product conversion by
-// the moment form (basis/conversion.h, DESIGN.md section 3 item 3), regularized from the data's
-// own variances, with per-exitant tables for renderers (brdf/sh_file.h).
+// the moment form (basis/conversion.h, docs/design.md section 3 item 3), regularized from the
+// data's own variances, with per-exitant tables for renderers (brdf/sh_file.h).
 //
 // Automatic truncation (tau not given). With the moment matrix M = U Sigma V^T (the ZB moments
 // of the target functions, the same on both sides of the tensor), the data seen along singular

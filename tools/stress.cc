@@ -92,7 +92,7 @@ std::string RunBasisCase(const BasisCase& c) {
   }
   for (double v : r.gram_condition_per_m) Check(std::isfinite(v) && v >= 1, std::string("a Gram condition is ") + Num(v));
   // The ZB is orthonormal by construction; the product rule integrates it exactly, so what is
-  // left is rounding: 4e-14 at order 30 (DESIGN.md section 3); 1e-10 leaves margin.
+  // left is rounding: 4e-14 at order 30 (docs/design.md section 3); 1e-10 leaves margin.
   // On a sliver of a zone the directions' cos(theta) = x carries an absolute rounding of eps,
   // i.e. eps / (b - a) in the virtual-sphere coordinate t, amplified by dZ/dt <= ~L^2:
   // 100 eps / (b - a) bounds it (1.5e-6 for 0-0.01 deg, measured 1.5e-7; negligible for zones

@@ -26,7 +26,8 @@ TEST(Conditioning, BuiltZoneReportWarnsAboutExtrapolation) {
   const double expected = 81 * (std::cos(DegToRad(9)) - std::cos(DegToRad(57))) / 2;
   EXPECT_NEAR(r.shannon_number, expected, 1e-12 * expected);
   ASSERT_EQ(r.gram_condition_per_m.size(), 9u);
-  EXPECT_TRUE(r.gram_condition_saturated[0]);  // beyond 1/eps at |m| = 0 (DESIGN: 2.5e18)
+  // Beyond 1/eps at |m| = 0 (docs/design.md section 3, item 1: 2.5e18 at L = 8).
+  EXPECT_TRUE(r.gram_condition_saturated[0]);
   EXPECT_NEAR(r.gram_condition_per_m[8], 1.0, 1e-12);  // a single function per block
   EXPECT_LE(r.roundtrip_error_in_zone, 1e-12);
   EXPECT_GT(r.noise_gain, 1e8);

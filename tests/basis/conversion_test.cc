@@ -117,7 +117,7 @@ TEST(Conversion, HemisphericalHarmonicsOfTheHemisphereZoneAreTheIdentity) {
 }
 
 TEST(Conversion, TheThesisDualFormulaIsBiased) {
-  // Regression guard (DESIGN.md section 3, item 2): y = G^-1 B z, with G the SH Gram matrix on
+  // Regression guard (docs/design.md section 3, item 2): y = G^-1 B z, with G the SH Gram matrix on
   // the zone and B = integral Y Z, errs by far more than the moment form even without noise.
   const Zone zone = Zone::FromDegrees(9, 57);
   constexpr int kOrder = 4;

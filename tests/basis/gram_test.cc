@@ -125,7 +125,7 @@ double Condition(const TargetBasis& target, const Zone& zone) {
 }
 
 TEST(Gram, ConditionNumbersMatchDesignNotes) {
-  // DESIGN.md section 3, items 1 and 4 (two significant digits given there).
+  // docs/design.md section 3, items 1 and 4 (two significant digits given there).
   const Zone built = Zone::FromDegrees(9, 57), designed = Zone::FromDegrees(9, 90);
   EXPECT_NEAR(Condition(TargetBasis(TargetKind::kSh, 2), built) / 3e4, 1.0, 0.2);
   EXPECT_NEAR(Condition(TargetBasis(TargetKind::kSh, 4), built) / 1e9, 1.0, 0.5);

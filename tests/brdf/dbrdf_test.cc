@@ -149,7 +149,7 @@ TEST(DBrdfTest, MatchesTheModelWithAnIndependentInterpolation) {
 }
 
 TEST(DBrdfTest, RetroReflectionRecoversTheDistribution) {
-  // DESIGN.md section 4: at k1 = k2 = h, p(h) = f(h, h) (2 cos - cos^2) / (c F0).
+  // docs/design.md section 4: at k1 = k2 = h, p(h) = f(h, h) (2 cos - cos^2) / (c F0).
   HalfVectorTable table = AnisotropicTable(9, 8, 0.25, 0.5);
   table.Normalize();
   const DBrdf brdf(DBrdfParams{table, Rgb(0.7), 0.04, Rgb(0)});

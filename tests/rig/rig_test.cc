@@ -26,7 +26,7 @@ std::string ThesisText() {
 TEST(RigTest, ShippedRigsLoadWithTheirStatedGeometry) {
   const Rig thesis = LoadRig(testing::SourceRig("thesis.yaml"));
   EXPECT_EQ(thesis.name, "thesis");
-  // Camera 27 cm above the parabola vertex, vertex 13.5 cm above the sample (DESIGN.md 1).
+  // Camera 27 cm above the parabola vertex, vertex 13.5 cm above the sample (docs/design.md 1).
   EXPECT_DOUBLE_EQ(thesis.parabola.vertex_height_mm, 135);
   EXPECT_DOUBLE_EQ(thesis.camera.position_mm.z - thesis.parabola.vertex_height_mm, 270);
   EXPECT_EQ(thesis.camera.width, 1360);

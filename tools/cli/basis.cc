@@ -33,7 +33,7 @@ int RunBasis(const std::vector<std::string>& args) {
           "Examples:\n"
           "  zbrdf basis --zone 9,57 --order 8\n"
           "  zbrdf basis --zone 9,90 --order 10 --target sh-even --json\n\n"
-          "Targets (DESIGN.md section 3): sh = all real SH; sh-even / sh-odd = SH with l+m "
+          "Targets (docs/design.md section 3): sh = all real SH; sh-even / sh-odd = SH with l+m "
           "even / odd\n(even or odd about the horizon; for zones reaching 90 deg); hsh = "
           "hemispherical harmonics.");
   if (!cl.Parse(args)) return 0;

@@ -21,9 +21,9 @@ nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 int RunConvert(const std::vector<std::string>& args) {
   CommandLine cl("convert",
                  "Converts a session's zonal coefficients (zonal.exr) to a tensor-product SH\n"
-                 "expansion in w_i and w_r by the moment form (DESIGN.md section 3), regularized\n"
-                 "from the data's variances, and writes an SH file with per-exitant tables on a\n"
-                 "90 x 90 (theta_r, phi_r) grid (docs/sh-and-dbrdf-files.md).");
+                 "expansion in w_i and w_r by the moment form (docs/design.md section 3),\n"
+                 "regularized from the data's variances, and writes an SH file with per-exitant\n"
+                 "tables on a 90 x 90 (theta_r, phi_r) grid (docs/sh-and-dbrdf-files.md).");
   cl.Positional("SESSION", "session folder holding zonal.exr")
       .Option("to", "FORMAT", "output representation (sh)", "sh")
       .Option("sh-order", "L", "target order (default: the data's zonal order)")

@@ -18,8 +18,8 @@ namespace {
 int RunDesignDome(const std::vector<std::string>& args) {
   CommandLine cl("design-dome",
                  "Designs the rig's freeform dome by Euler integration of the reflector ODE "
-                 "(DESIGN.md section 1):\nfrom the parabola's rim ray inward, each dome point's "
-                 "normal bisects the incoming camera ray\nand the direction to the sample "
+                 "(docs/design.md section 1):\nfrom the parabola's rim ray inward, each dome "
+                 "point's normal bisects the incoming camera ray\nand the direction to the sample "
                  "center. Writes the profile (CSV) and a cross-section drawing\n(PNG) with "
                  "chief-ray paths, and reports the measured zone, its share of the hemisphere\n"
                  "and the camera pixels per degree of theta.");
