@@ -10,10 +10,6 @@
 #include <ImfInputPart.h>
 #include <ImfIntAttribute.h>
 #include <ImfMultiPartInputFile.h>
-#include <ImfMultiPartOutputFile.h>
-#include <ImfOutputPart.h>
-#include <ImfPartType.h>
-#include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
 #include <ImfDoubleAttribute.h>
 #include <Iex.h>
@@ -23,6 +19,7 @@
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/exr_header.h"
+#include "brdf/exr_writer.h"
 #include "rig/direction_maps.h"
 
 namespace zbrdf {
@@ -356,52 +353,29 @@ void WriteZonalExr(const std::string& path, const ZonalData& data) {
   const ExitantGrid& g = data.grid;
   const int n = static_cast<int>(data.functions.size());
   const int cells = g.cells();
-  Imf::Header grid_header(g.n_phi, g.n_theta);
-  grid_header.setName("grid");
-  grid_header.setType(Imf::SCANLINEIMAGE);
-  grid_header.compression() = Imf::ZIP_COMPRESSION;
-  // Parts of a multi-part file share their display window; the tensor has its own data window.
-  Imf::Header tensor_header(grid_header.displayWindow(),
-                            Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(n - 1, n - 1)));
-  tensor_header.setName("tensor");
-  tensor_header.setType(Imf::SCANLINEIMAGE);
-  tensor_header.compression() = Imf::ZIP_COMPRESSION;
-  for (Imf::Header* h : {&grid_header, &tensor_header}) {
-    h->insert("zbrdf.format", Imf::StringAttribute("zbrdf-zonal-v1"));
-    h->insert("zbrdf.theta_min_rad", Imf::DoubleAttribute(data.theta_min_rad));
-    h->insert("zbrdf.theta_max_rad", Imf::DoubleAttribute(data.theta_max_rad));
-    h->insert("zbrdf.order", Imf::IntAttribute(data.order));
-    h->insert("zbrdf.theta_step_rad", Imf::DoubleAttribute(g.theta_step_rad));
-    h->insert("zbrdf.phi_step_rad", Imf::DoubleAttribute(g.phi_step_rad));
-    h->insert("zbrdf.attributes", Imf::StringAttribute(data.attributes.dump()));
-  }
-  // Channel storage must outlive writePixels.
-  std::vector<std::vector<float>> storage;
-  Imf::FrameBuffer grid_fb;
-  auto add = [&](Imf::Header& header, Imf::FrameBuffer& fb, const std::string& name,
-                 std::vector<float> values, int width) {
-    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    storage.push_back(std::move(values));
-    fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(storage.back().data()),
-                               sizeof(float), sizeof(float) * width));
-  };
-  storage.reserve(6 * n + 8);
+  TwoPartExrWriter writer("grid", g.n_phi, g.n_theta, "tensor", n);
+  writer.SetString("zbrdf.format", "zbrdf-zonal-v1");
+  writer.SetDouble("zbrdf.theta_min_rad", data.theta_min_rad);
+  writer.SetDouble("zbrdf.theta_max_rad", data.theta_max_rad);
+  writer.SetInt("zbrdf.order", data.order);
+  writer.SetDouble("zbrdf.theta_step_rad", g.theta_step_rad);
+  writer.SetDouble("zbrdf.phi_step_rad", g.phi_step_rad);
+  writer.SetString("zbrdf.attributes", data.attributes.dump());
   for (int k = 0; k < n; ++k) {
     const std::string layer = FunctionLayer(k);
     for (int ch = 0; ch < 3; ++ch) {
-      add(grid_header, grid_fb, layer + "." + kChannel[ch], data.functions[k].value[ch], g.n_phi);
-      add(grid_header, grid_fb, layer + ".var." + kChannel[ch], data.functions[k].variance[ch], g.n_phi);
+      writer.AddImageChannel(layer + "." + kChannel[ch], data.functions[k].value[ch]);
+      writer.AddImageChannel(layer + ".var." + kChannel[ch], data.functions[k].variance[ch]);
     }
   }
   if (n > 0) {
     for (int ch = 0; ch < 3; ++ch) {
-      add(grid_header, grid_fb, std::string("weight.") + kChannel[ch], data.functions[0].weight[ch], g.n_phi);
+      writer.AddImageChannel(std::string("weight.") + kChannel[ch], data.functions[0].weight[ch]);
     }
     std::vector<float> filled(cells);
     for (int c = 0; c < cells; ++c) filled[c] = data.functions[0].filled[c];
-    add(grid_header, grid_fb, "filled", filled, g.n_phi);
+    writer.AddImageChannel("filled", std::move(filled));
   }
-  Imf::FrameBuffer tensor_fb;
   for (int ch = 0; ch < 3; ++ch) {
     std::vector<float> v(static_cast<size_t>(n) * n), var(static_cast<size_t>(n) * n);
     for (int k = 0; k < n; ++k) {
@@ -410,21 +384,10 @@ void WriteZonalExr(const std::string& path, const ZonalData& data) {
         var[k * n + j] = static_cast<float>(data.tensor_variance[ch](k, j));
       }
     }
-    add(tensor_header, tensor_fb, std::string("z.") + kChannel[ch], v, n);
-    add(tensor_header, tensor_fb, std::string("var.") + kChannel[ch], var, n);
+    writer.AddTensorChannel(std::string("z.") + kChannel[ch], std::move(v));
+    writer.AddTensorChannel(std::string("var.") + kChannel[ch], std::move(var));
   }
-  try {
-    const Imf::Header headers[2] = {grid_header, tensor_header};
-    Imf::MultiPartOutputFile file(path.c_str(), headers, 2);
-    Imf::OutputPart grid_part(file, 0);
-    grid_part.setFrameBuffer(grid_fb);
-    grid_part.writePixels(g.n_theta);
-    Imf::OutputPart tensor_part(file, 1);
-    tensor_part.setFrameBuffer(tensor_fb);
-    tensor_part.writePixels(n);
-  } catch (const std::exception& e) {
-    throw InputError("cannot write " + path + ": " + e.what());
-  }
+  writer.Write(path, path);
 }
 
 ZonalData ReadZonalExr(const std::string& path) {

@@ -13,12 +13,20 @@ namespace zbrdf {
 
 namespace {
 
-// Relative L2 error over theta in [lo, hi] of sum_i (y_est - y)_i T_i against sum_i y_i T_i.
-double RelativeErrorOverBand(const TargetBasis& target, const Eigen::VectorXd& y,
-                             const Eigen::VectorXd& y_est, double lo_rad, double hi_rad,
-                             double* norm_out) {
-  *norm_out = 0;
-  if (hi_rad - lo_rad < 1e-12) return 0;
+std::string Format(const char* fmt, double value) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), fmt, value);
+  return buf;
+}
+
+}  // namespace
+
+double BandError::Relative() const { return norm_sq > 0 ? std::sqrt(error_sq / norm_sq) : 0; }
+
+BandError ErrorOverBand(const TargetBasis& target, const Eigen::VectorXd& y,
+                        const Eigen::VectorXd& y_est, double lo_rad, double hi_rad) {
+  BandError band;
+  if (hi_rad - lo_rad < 1e-12) return band;
   const SphereRule rule =
       ProductRule(CosThetaGaussRule(Zone(lo_rad, hi_rad), 2 * target.order() + 12),
                   2 * target.order() + 3);
@@ -34,17 +42,10 @@ double RelativeErrorOverBand(const TargetBasis& target, const Eigen::VectorXd& y
     err += rule.weights[q] * (f_est - f) * (f_est - f);
     norm += rule.weights[q] * f * f;
   }
-  *norm_out = norm;
-  return norm > 0 ? err : 0;
+  band.norm_sq = norm;
+  band.error_sq = norm > 0 ? err : 0;
+  return band;
 }
-
-std::string Format(const char* fmt, double value) {
-  char buf[256];
-  std::snprintf(buf, sizeof(buf), fmt, value);
-  return buf;
-}
-
-}  // namespace
 
 ConditioningReport AnalyzeConditioning(const ConditioningOptions& options) {
   const Zone zone(options.theta_min_rad, options.theta_max_rad);
@@ -102,36 +103,29 @@ ConditioningReport AnalyzeConditioning(const ConditioningOptions& options) {
       },
       2 * degree + 60, 2 * degree + 3);
   const Eigen::VectorXd y_est = conversion.Apply(z);
-  double norm_in = 0, norm_cap = 0, norm_band = 0;
-  const double err_in = RelativeErrorOverBand(target, y, y_est, zone.theta_min_rad(),
-                                              zone.theta_max_rad(), &norm_in);
-  report.roundtrip_error_in_zone = norm_in > 0 ? std::sqrt(err_in / norm_in) : 0;
-  const double err_cap =
-      RelativeErrorOverBand(target, y, y_est, 0.0, zone.theta_min_rad(), &norm_cap);
-  const double err_band =
-      RelativeErrorOverBand(target, y, y_est, zone.theta_max_rad(), M_PI / 2, &norm_band);
-  report.has_outside = norm_cap + norm_band > 0;
+  const BandError in = ErrorOverBand(target, y, y_est, zone.theta_min_rad(), zone.theta_max_rad());
+  report.roundtrip_error_in_zone = in.Relative();
+  const BandError cap = ErrorOverBand(target, y, y_est, 0.0, zone.theta_min_rad());
+  const BandError band = ErrorOverBand(target, y, y_est, zone.theta_max_rad(), M_PI / 2);
+  const double norm_outside = cap.norm_sq + band.norm_sq;
+  report.has_outside = norm_outside > 0;
   report.roundtrip_error_outside_zone =
-      report.has_outside ? std::sqrt((err_cap + err_band) / (norm_cap + norm_band)) : 0;
+      report.has_outside ? std::sqrt((cap.error_sq + band.error_sq) / norm_outside) : 0;
 
   // The same with noise on the moments, as a capture delivers them.
   Eigen::VectorXd z_noisy = z;
   const double z_rms = z.norm() / std::sqrt(static_cast<double>(z.size()));
   for (int j = 0; j < z.size(); ++j) z_noisy(j) += options.noise_relative * z_rms * normal(rng);
   const Eigen::VectorXd y_noisy = conversion.Apply(z_noisy);
-  double unused = 0;
+  const BandError noisy_in =
+      ErrorOverBand(target, y, y_noisy, zone.theta_min_rad(), zone.theta_max_rad());
   report.noisy_roundtrip_error_in_zone =
-      norm_in > 0 ? std::sqrt(RelativeErrorOverBand(target, y, y_noisy, zone.theta_min_rad(),
-                                                    zone.theta_max_rad(), &unused) /
-                              norm_in)
-                  : 0;
+      in.norm_sq > 0 ? std::sqrt(noisy_in.error_sq / in.norm_sq) : 0;
   if (report.has_outside) {
-    const double e_cap =
-        RelativeErrorOverBand(target, y, y_noisy, 0.0, zone.theta_min_rad(), &unused);
+    const double e_cap = ErrorOverBand(target, y, y_noisy, 0.0, zone.theta_min_rad()).error_sq;
     const double e_band =
-        RelativeErrorOverBand(target, y, y_noisy, zone.theta_max_rad(), M_PI / 2, &unused);
-    report.noisy_roundtrip_error_outside_zone =
-        std::sqrt((e_cap + e_band) / (norm_cap + norm_band));
+        ErrorOverBand(target, y, y_noisy, zone.theta_max_rad(), M_PI / 2).error_sq;
+    report.noisy_roundtrip_error_outside_zone = std::sqrt((e_cap + e_band) / norm_outside);
   }
 
   // Advice (docs/design.md section 3, items 4 and 5).

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "basis/target_basis.h"
 #include "basis/zone.h"
 
@@ -52,5 +54,20 @@ struct ConditioningReport {
 };
 
 ConditioningReport AnalyzeConditioning(const ConditioningOptions& options);
+
+// How far an estimate f_est = sum_i y_est_i T_i is from f = sum_i y_i T_i over the band of
+// directions theta in [lo, hi] (all azimuths), T the target functions: the round-trip errors
+// above, and the tests of conversions.
+struct BandError {
+  double error_sq = 0;  // integral (f_est - f)^2 dw over the band (0 where f vanishes on it)
+  double norm_sq = 0;   // integral f^2 dw over the band
+  // sqrt(error_sq / norm_sq), the relative L2 error; 0 when f vanishes on the band.
+  double Relative() const;
+};
+// By the product rule of 2 order + 12 Gauss-Legendre nodes in cos theta and 2 order + 3
+// trapezoid points in phi, exact for products of two target functions (docs/design.md section 3,
+// quadrature). An empty band (hi - lo < 1e-12 rad) gives zeros; bands must lie in [0, 90] deg.
+BandError ErrorOverBand(const TargetBasis& target, const Eigen::VectorXd& y,
+                        const Eigen::VectorXd& y_est, double lo_rad, double hi_rad);
 
 }  // namespace zbrdf

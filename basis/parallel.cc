@@ -20,10 +20,15 @@ int WorkerThreads() {
 
 void ParallelFor(int64_t count, int64_t grain,
                  const std::function<void(int64_t, int64_t)>& body) {
+  ParallelFor(count, grain, WorkerThreads(), body);
+}
+
+void ParallelFor(int64_t count, int64_t grain, int max_threads,
+                 const std::function<void(int64_t, int64_t)>& body) {
   if (count <= 0) return;
   grain = std::max<int64_t>(1, grain);
-  const int threads =
-      static_cast<int>(std::min<int64_t>(WorkerThreads(), (count + grain - 1) / grain));
+  const int threads = static_cast<int>(
+      std::min<int64_t>(std::clamp(max_threads, 1, 256), (count + grain - 1) / grain));
   if (threads <= 1) {
     body(0, count);
     return;
@@ -50,6 +55,14 @@ void ParallelFor(int64_t count, int64_t grain,
   worker();
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
+}
+
+void ParallelForEach(int64_t count, int max_threads, const std::function<bool(int64_t)>& item) {
+  ParallelFor(count, 1, max_threads, [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      if (!item(i)) return;
+    }
+  });
 }
 
 }  // namespace zbrdf

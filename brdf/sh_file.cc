@@ -10,14 +10,12 @@
 #include <ImfInputPart.h>
 #include <ImfIntAttribute.h>
 #include <ImfMultiPartInputFile.h>
-#include <ImfMultiPartOutputFile.h>
-#include <ImfOutputPart.h>
-#include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 
 #include "basis/error.h"
 #include "basis/parallel.h"
 #include "brdf/exr_header.h"
+#include "brdf/exr_writer.h"
 
 namespace zbrdf {
 namespace {
@@ -95,61 +93,33 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
   }
   const TargetBasis basis(data.target, data.order);
   const int n = basis.size();
-  Imf::Header exitant_header(data.exitant_phi, data.exitant_theta);
-  exitant_header.setName("exitant");
-  exitant_header.setType(Imf::SCANLINEIMAGE);
-  exitant_header.compression() = Imf::ZIP_COMPRESSION;
-  Imf::Header tensor_header(exitant_header.displayWindow(),
-                            Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(n - 1, n - 1)));
-  tensor_header.setName("tensor");
-  tensor_header.setType(Imf::SCANLINEIMAGE);
-  tensor_header.compression() = Imf::ZIP_COMPRESSION;
-  for (Imf::Header* h : {&exitant_header, &tensor_header}) {
-    h->insert("zbrdf.format", Imf::StringAttribute(kFormat));
-    h->insert("zbrdf.target", Imf::StringAttribute(TargetName(data.target)));
-    h->insert("zbrdf.order", Imf::IntAttribute(data.order));
-    h->insert("zbrdf.theta_min_rad", Imf::DoubleAttribute(data.theta_min_rad));
-    h->insert("zbrdf.theta_max_rad", Imf::DoubleAttribute(data.theta_max_rad));
-    h->insert("zbrdf.quantity", Imf::StringAttribute(kQuantity));
-    h->insert("zbrdf.normalization", Imf::StringAttribute(kNormalization));
-    h->insert("zbrdf.info", Imf::StringAttribute(data.info.dump()));
-  }
+  TwoPartExrWriter writer("exitant", data.exitant_phi, data.exitant_theta, "tensor", n);
+  writer.SetString("zbrdf.format", kFormat);
+  writer.SetString("zbrdf.target", TargetName(data.target));
+  writer.SetInt("zbrdf.order", data.order);
+  writer.SetDouble("zbrdf.theta_min_rad", data.theta_min_rad);
+  writer.SetDouble("zbrdf.theta_max_rad", data.theta_max_rad);
+  writer.SetString("zbrdf.quantity", kQuantity);
+  writer.SetString("zbrdf.normalization", kNormalization);
+  writer.SetString("zbrdf.info", data.info.dump());
   // Per-exitant layers: one FLOAT image per (function, channel), strided views of `exitant`.
-  Imf::FrameBuffer exitant_fb;
   for (int a = 0; a < n; ++a) {
     const std::string layer = ShLayerName(data.target, basis.degree(a), basis.azimuthal_order(a));
     for (int ch = 0; ch < 3; ++ch) {
-      const std::string name = layer + "." + kChannel[ch];
-      exitant_header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-      char* base = reinterpret_cast<char*>(const_cast<float*>(data.exitant[ch].data() + a));
-      exitant_fb.insert(name, Imf::Slice(Imf::FLOAT, base, sizeof(float) * n,
-                                         sizeof(float) * n * data.exitant_phi));
+      writer.AddImageChannel(layer + "." + kChannel[ch], data.exitant[ch].data() + a, n,
+                             static_cast<size_t>(n) * data.exitant_phi);
     }
   }
-  std::array<std::vector<float>, 3> tensor;
-  Imf::FrameBuffer tensor_fb;
   for (int ch = 0; ch < 3; ++ch) {
-    tensor[ch].resize(static_cast<size_t>(n) * n);
+    std::vector<float> tensor(static_cast<size_t>(n) * n);
     for (int a = 0; a < n; ++a) {
-      for (int b = 0; b < n; ++b) tensor[ch][static_cast<size_t>(a) * n + b] = static_cast<float>(data.coefficients[ch](a, b));
+      for (int b = 0; b < n; ++b) {
+        tensor[static_cast<size_t>(a) * n + b] = static_cast<float>(data.coefficients[ch](a, b));
+      }
     }
-    const std::string name = std::string("y.") + kChannel[ch];
-    tensor_header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    tensor_fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(tensor[ch].data()),
-                                      sizeof(float), sizeof(float) * n));
+    writer.AddTensorChannel(std::string("y.") + kChannel[ch], std::move(tensor));
   }
-  try {
-    const Imf::Header headers[2] = {exitant_header, tensor_header};
-    Imf::MultiPartOutputFile file(path.c_str(), headers, 2);
-    Imf::OutputPart exitant_part(file, 0);
-    exitant_part.setFrameBuffer(exitant_fb);
-    exitant_part.writePixels(data.exitant_theta);
-    Imf::OutputPart tensor_part(file, 1);
-    tensor_part.setFrameBuffer(tensor_fb);
-    tensor_part.writePixels(n);
-  } catch (const std::exception& e) {
-    throw InputError("cannot write SH file " + path + ": " + e.what());
-  }
+  writer.Write(path, "SH file " + path);
 }
 
 ShBrdfData ReadShFile(const std::string& path) {

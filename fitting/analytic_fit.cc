@@ -14,6 +14,7 @@
 #include "brdf/ggx.h"
 #include "brdf/lambertian.h"
 #include "brdf/ward.h"
+#include "fitting/covariance.h"
 
 namespace zbrdf {
 namespace {
@@ -338,27 +339,17 @@ AnalyticFitResult AnalyticFitter::Fit(const ZonalTensor& data, AnalyticModel mod
   result.statistics.iterations = static_cast<int>(summary.iterations.size());
   result.statistics.termination = summary.message;
   if (options_.covariance) {
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.null_space_rank = -1;
-    ceres::Covariance covariance(cov_options);
-    std::vector<std::pair<const double*, const double*>> blocks = {{&u, &u}, {a, a}, {b, b}};
-    if (covariance.Compute(blocks, &problem)) {
-      double vu = 0, va[9], vb[9];
-      if (covariance.GetCovarianceBlock(&u, &u, &vu) && covariance.GetCovarianceBlock(a, a, va) &&
-          covariance.GetCovarianceBlock(b, b, vb)) {
-        const double inflate = std::max(1.0, result.statistics.chi2_per_dof);
-        result.uncertainty.available = true;
-        result.uncertainty.shape = ShapeDerivative(u) * std::sqrt(std::max(0.0, vu * inflate));
-        for (int ch = 0; ch < 3; ++ch) {
-          result.uncertainty.specular[ch] = std::sqrt(std::max(0.0, va[ch * 4] * inflate));
-          result.uncertainty.diffuse[ch] = std::sqrt(std::max(0.0, vb[ch * 4] * inflate));
-        }
+    const auto sd = ParameterStandardDeviations(problem, {{&u, 1}, {a, 3}, {b, 3}},
+                                                result.statistics.chi2_per_dof);
+    if (sd) {
+      result.uncertainty.available = true;
+      result.uncertainty.shape = ShapeDerivative(u) * (*sd)[0][0];
+      for (int ch = 0; ch < 3; ++ch) {
+        result.uncertainty.specular[ch] = (*sd)[1][ch];
+        result.uncertainty.diffuse[ch] = (*sd)[2][ch];
       }
-    }
-    if (!result.uncertainty.available) {
-      result.conditions.push_back("parameter uncertainties unavailable: the problem is rank "
-                                  "deficient at the solution (a parameter the data do not determine)");
+    } else {
+      result.conditions.push_back(kUncertaintiesUnavailable);
     }
   }
   // The diffuse parameter as the model takes it (AS: Rd from Rd (1 - Rs)).

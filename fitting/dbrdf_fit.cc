@@ -13,6 +13,7 @@
 #include "basis/error.h"
 #include "basis/spherical_harmonics.h"
 #include "basis/zonal_basis.h"
+#include "fitting/covariance.h"
 
 namespace zbrdf {
 namespace {
@@ -557,28 +558,17 @@ DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
 
   // Uncertainties.
   if (options_.covariance) {
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.null_space_rank = -1;
-    cov_options.min_reciprocal_condition_number = 1e-14;
-    ceres::Covariance covariance(cov_options);
-    std::vector<std::pair<const double*, const double*>> blocks = {{&f0, &f0}, {c, c}, {kd, kd}};
-    if (covariance.Compute(blocks, ceres_problem.get())) {
-      const double inflate = std::max(1.0, result.statistics.chi2_per_dof);
-      double v_f0 = 0, v_c[9], v_kd[9];
-      if (covariance.GetCovarianceBlock(&f0, &f0, &v_f0) && covariance.GetCovarianceBlock(c, c, v_c) &&
-          covariance.GetCovarianceBlock(kd, kd, v_kd)) {
-        result.uncertainty.available = true;
-        result.uncertainty.f0 = std::sqrt(std::max(0.0, v_f0 * inflate));
-        for (int ch = 0; ch < 3; ++ch) {
-          result.uncertainty.c[ch] = std::sqrt(std::max(0.0, v_c[ch * 4] * inflate));
-          result.uncertainty.kd[ch] = std::sqrt(std::max(0.0, v_kd[ch * 4] * inflate));
-        }
+    const auto sd = ParameterStandardDeviations(*ceres_problem, {{&f0, 1}, {c, 3}, {kd, 3}},
+                                                result.statistics.chi2_per_dof);
+    if (sd) {
+      result.uncertainty.available = true;
+      result.uncertainty.f0 = (*sd)[0][0];
+      for (int ch = 0; ch < 3; ++ch) {
+        result.uncertainty.c[ch] = (*sd)[1][ch];
+        result.uncertainty.kd[ch] = (*sd)[2][ch];
       }
-    }
-    if (!result.uncertainty.available) {
-      result.conditions.push_back("parameter uncertainties unavailable: the problem is rank "
-                                  "deficient at the solution (a parameter the data do not determine)");
+    } else {
+      result.conditions.push_back(kUncertaintiesUnavailable);
     }
   }
 

@@ -1,6 +1,7 @@
 #include "tools/bench_run.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,23 +11,23 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
-#include <thread>
 
 #include "acquisition/capture_job.h"
 #include "acquisition/ground_truth.h"
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
 #include "calibration/calibration_data.h"
 #include "fitting/fit_error.h"
+#include "pictures/material_ball.h"
 #include "rig/direction_maps.h"
 #include "simulate/virtual_rig.h"
 #include "tools/fit_all.h"
 #include "tools/fit_session.h"
-#include "pictures/material_ball.h"
 #include "tools/sh_conversion.h"
 
 namespace zbrdf {
@@ -493,7 +494,6 @@ BenchSummary RunBench(const BenchOptions& options) {
   std::vector<nlohmann::json> rows(materials.size() * strategies.size());
   std::vector<bool> filled(rows.size(), false);
   std::mutex mutex;
-  std::atomic<size_t> next{0};
   const auto bench_start = WallClock::now();
   auto write_outputs = [&]() {  // under mutex
     nlohmann::json all = nlohmann::json::array();
@@ -530,52 +530,50 @@ BenchSummary RunBench(const BenchOptions& options) {
     summary.table = table;
   };
   std::exception_ptr output_error;
-  auto worker = [&]() {
-    while (true) {
-      if (options.interrupt && options.interrupt->load()) return;
-      const size_t mi = next.fetch_add(1);
-      if (mi >= materials.size()) return;
-      const std::string dir = options.out_dir + "/" + MaterialFolderName(materials[mi]);
-      std::unique_ptr<MaterialBench> bench;
-      std::string setup_failure;
-      try {
-        bench = std::make_unique<MaterialBench>(rig, run, materials[mi], &fits);
-      } catch (const std::exception& e) {
-        setup_failure = e.what();
-      }
-      for (size_t si = 0; si < strategies.size(); ++si) {
-        if (options.interrupt && options.interrupt->load()) return;
-        nlohmann::json row;
-        try {
-          if (!bench) throw InputError(setup_failure);
-          row = bench->Run(strategies[si], dir + "/" + strategies[si].name, max_order);
-          if (row.value("interrupted", false)) return;
-        } catch (const std::exception& e) {
-          row = {{"material", materials[mi]},
-                 {"strategy", strategies[si].name},
-                 {"adaptive", strategies[si].adaptive},
-                 {"order", strategies[si].order},
-                 {"failure", e.what()}};
-        }
-        std::lock_guard<std::mutex> lock(mutex);
-        summary.failed += row.contains("failure");
-        rows[mi * strategies.size() + si] = row;
-        filled[mi * strategies.size() + si] = true;
-        try {
-          write_outputs();
-        } catch (...) {
-          if (!output_error) output_error = std::current_exception();
-          return;
-        }
-        Report(options.progress, {"bench", ++done, total, "captures"});
-      }
+  // One material, all strategies; false stops this worker (interrupted, or the outputs could not
+  // be written).
+  auto bench_material = [&](size_t mi) {
+    if (options.interrupt && options.interrupt->load()) return false;
+    const std::string dir = options.out_dir + "/" + MaterialFolderName(materials[mi]);
+    std::unique_ptr<MaterialBench> bench;
+    std::string setup_failure;
+    try {
+      bench = std::make_unique<MaterialBench>(rig, run, materials[mi], &fits);
+    } catch (const std::exception& e) {
+      setup_failure = e.what();
     }
+    for (size_t si = 0; si < strategies.size(); ++si) {
+      if (options.interrupt && options.interrupt->load()) return false;
+      nlohmann::json row;
+      try {
+        if (!bench) throw InputError(setup_failure);
+        row = bench->Run(strategies[si], dir + "/" + strategies[si].name, max_order);
+        if (row.value("interrupted", false)) return false;
+      } catch (const std::exception& e) {
+        row = {{"material", materials[mi]},
+               {"strategy", strategies[si].name},
+               {"adaptive", strategies[si].adaptive},
+               {"order", strategies[si].order},
+               {"failure", e.what()}};
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      summary.failed += row.contains("failure");
+      rows[mi * strategies.size() + si] = row;
+      filled[mi * strategies.size() + si] = true;
+      try {
+        write_outputs();
+      } catch (...) {
+        if (!output_error) output_error = std::current_exception();
+        return false;
+      }
+      Report(options.progress, {"bench", ++done, total, "captures"});
+    }
+    return true;
   };
-  const int threads = std::clamp(options.parallel_materials, 1, 16);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  // Materials in flight at once: each capture and fit is itself mostly single-threaded.
+  const int in_flight = std::clamp(options.parallel_materials, 1, 16);
+  ParallelForEach(static_cast<int64_t>(materials.size()), in_flight,
+                  [&](int64_t mi) { return bench_material(static_cast<size_t>(mi)); });
   if (output_error) std::rethrow_exception(output_error);
   std::lock_guard<std::mutex> lock(mutex);
   write_outputs();

@@ -1,6 +1,7 @@
 #include "tools/fit_all.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -9,10 +10,10 @@
 #include <fstream>
 #include <map>
 #include <mutex>
-#include <thread>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/parallel.h"
 #include "brdf/nbrdf.h"
 #include "rig/rig.h"
 #include "tools/fit_session.h"
@@ -108,7 +109,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
   std::vector<bool> done(total, false);
   std::mutex mutex;
   FitAllSummary summary;
-  std::atomic<int> next{0}, finished{0};
+  std::atomic<int> finished{0};
   std::exception_ptr table_error;
   Report(options.progress, {"fit-all", 0, total, "materials"});
 
@@ -180,99 +181,97 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
     summary.table = table;
   };
 
-  auto worker = [&]() {
-    while (true) {
-      if (options.interrupt && options.interrupt->load()) return;
-      const int i = next.fetch_add(1);
-      if (i >= total) return;
-      const std::string& spec = options.materials[i];
-      const std::string folder = MaterialFolderName(spec);
-      const std::string dir = options.out_dir + "/" + folder;
-      nlohmann::json row = {{"material", spec}, {"folder", folder}};
-      row["error_cosine_l2"] = nlohmann::json::object();
-      row["error_in_zone"] = nlohmann::json::object();
-      row["error_cosine_l2_80"] = nlohmann::json::object();
-      row["fit_time_s"] = nlohmann::json::object();
-      row["conditions"] = nlohmann::json::object();
-      bool simulated = false, reused_session = false, failed = false;
-      int fitted = 0, reused_fits = 0;
-      try {
-        if (!std::filesystem::exists(dir + "/zonal.exr")) {
-          VirtualCaptureArgs args;
-          args.rig = rig;
-          args.preset_name = options.preset;
-          args.material_spec = spec;
-          args.seed = options.seed;
-          args.job.out_dir = dir;
-          args.job.order = options.order;
-          args.job.resume = std::filesystem::exists(dir + "/session.json");
-          args.job.interrupt = options.interrupt;
-          VirtualCaptureOutcome outcome;
-          try {
-            outcome = RunVirtualCapture(args);
-          } catch (const DeviceError& e) {
-            // A very dark material: the metered exposure exceeds the camera's range. Capture with
-            // the longest bracket the camera allows instead (noisier, but data), keeping the
-            // failed attempt's folder aside.
-            const std::string message = e.what();
-            const double longest = LongestExposureUs(message);
-            if (longest <= 0) throw;
-            std::filesystem::rename(dir, dir + ".exposure-failed");
-            args.job.resume = false;
-            args.job.shortest_exposure_us =
-                longest / std::pow(2.0, args.job.stops_apart * (args.job.exposures - 1));
-            outcome = RunVirtualCapture(args);
-            row["capture_note"] = "metered exposure beyond the camera's range (" + message +
-                                  "); captured with the longest exposures it allows";
-          }
-          if (!outcome.result.complete) return;  // interrupted: resumable
-          simulated = true;
+  // One material: simulate (or reuse) its session, then fit each model; false stops this worker
+  // (interrupted, or the table could not be written).
+  auto fit_material = [&](int i) {
+    if (options.interrupt && options.interrupt->load()) return false;
+    const std::string& spec = options.materials[i];
+    const std::string folder = MaterialFolderName(spec);
+    const std::string dir = options.out_dir + "/" + folder;
+    nlohmann::json row = {{"material", spec}, {"folder", folder}};
+    row["error_cosine_l2"] = nlohmann::json::object();
+    row["error_in_zone"] = nlohmann::json::object();
+    row["error_cosine_l2_80"] = nlohmann::json::object();
+    row["fit_time_s"] = nlohmann::json::object();
+    row["conditions"] = nlohmann::json::object();
+    bool simulated = false, reused_session = false, failed = false;
+    int fitted = 0, reused_fits = 0;
+    try {
+      if (!std::filesystem::exists(dir + "/zonal.exr")) {
+        VirtualCaptureArgs args;
+        args.rig = rig;
+        args.preset_name = options.preset;
+        args.material_spec = spec;
+        args.seed = options.seed;
+        args.job.out_dir = dir;
+        args.job.order = options.order;
+        args.job.resume = std::filesystem::exists(dir + "/session.json");
+        args.job.interrupt = options.interrupt;
+        VirtualCaptureOutcome outcome;
+        try {
+          outcome = RunVirtualCapture(args);
+        } catch (const DeviceError& e) {
+          // A very dark material: the metered exposure exceeds the camera's range. Capture with
+          // the longest bracket the camera allows instead (noisier, but data), keeping the
+          // failed attempt's folder aside.
+          const std::string message = e.what();
+          const double longest = LongestExposureUs(message);
+          if (longest <= 0) throw;
+          std::filesystem::rename(dir, dir + ".exposure-failed");
+          args.job.resume = false;
+          args.job.shortest_exposure_us =
+              longest / std::pow(2.0, args.job.stops_apart * (args.job.exposures - 1));
+          outcome = RunVirtualCapture(args);
+          row["capture_note"] = "metered exposure beyond the camera's range (" + message +
+                                "); captured with the longest exposures it allows";
+        }
+        if (!outcome.result.complete) return false;  // interrupted: resumable
+        simulated = true;
+      } else {
+        reused_session = true;
+      }
+      for (const std::string& model : options.models) {
+        const std::string report_path = dir + "/fit-" + model + ".json";
+        nlohmann::json report = options.refit ? nlohmann::json(nullptr) : ReadJsonFile(report_path);
+        if (report.is_null() || !report.contains("error_cosine_l2")) {
+          FitSessionOptions fit;
+          fit.model = model;
+          report = FitSession(dir, fit, &context).report;
+          ++fitted;
         } else {
-          reused_session = true;
+          ++reused_fits;
         }
-        for (const std::string& model : options.models) {
-          const std::string report_path = dir + "/fit-" + model + ".json";
-          nlohmann::json report = options.refit ? nlohmann::json(nullptr) : ReadJsonFile(report_path);
-          if (report.is_null() || !report.contains("error_cosine_l2")) {
-            FitSessionOptions fit;
-            fit.model = model;
-            report = FitSession(dir, fit, &context).report;
-            ++fitted;
-          } else {
-            ++reused_fits;
-          }
-          row["error_cosine_l2"][model] = report.value("error_cosine_l2", nlohmann::json(nullptr));
-          row["error_in_zone"][model] = report.value("error_in_zone", nlohmann::json(nullptr));
-          row["error_cosine_l2_80"][model] = report.value("error_cosine_l2_80", nlohmann::json(nullptr));
-          row["fit_time_s"][model] = report.value("fit_time_s", nlohmann::json(nullptr));
-          row["conditions"][model] = report.value("conditions", nlohmann::json::array());
-        }
-      } catch (const std::exception& e) {
-        row["failure"] = e.what();
-        failed = true;
+        row["error_cosine_l2"][model] = report.value("error_cosine_l2", nlohmann::json(nullptr));
+        row["error_in_zone"][model] = report.value("error_in_zone", nlohmann::json(nullptr));
+        row["error_cosine_l2_80"][model] =
+            report.value("error_cosine_l2_80", nlohmann::json(nullptr));
+        row["fit_time_s"][model] = report.value("fit_time_s", nlohmann::json(nullptr));
+        row["conditions"][model] = report.value("conditions", nlohmann::json::array());
       }
-      std::lock_guard<std::mutex> lock(mutex);
-      rows[i] = row;
-      done[i] = true;
-      summary.simulated += simulated;
-      summary.reused_sessions += reused_session;
-      summary.fitted += fitted;
-      summary.reused_fits += reused_fits;
-      summary.failed += failed;
-      try {
-        write_table();
-      } catch (...) {
-        if (!table_error) table_error = std::current_exception();
-        return;
-      }
-      Report(options.progress, {"fit-all", ++finished, total, "materials"});
+    } catch (const std::exception& e) {
+      row["failure"] = e.what();
+      failed = true;
     }
+    std::lock_guard<std::mutex> lock(mutex);
+    rows[i] = row;
+    done[i] = true;
+    summary.simulated += simulated;
+    summary.reused_sessions += reused_session;
+    summary.fitted += fitted;
+    summary.reused_fits += reused_fits;
+    summary.failed += failed;
+    try {
+      write_table();
+    } catch (...) {
+      if (!table_error) table_error = std::current_exception();
+      return false;
+    }
+    Report(options.progress, {"fit-all", ++finished, total, "materials"});
+    return true;
   };
-  const int threads = std::clamp(options.parallel_materials, 1, 16);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  // Materials in flight at once: each stage is itself mostly single-threaded.
+  ParallelForEach(total, std::clamp(options.parallel_materials, 1, 16),
+                  [&](int64_t i) { return fit_material(static_cast<int>(i)); });
   if (table_error) std::rethrow_exception(table_error);
   summary.interrupted = finished.load() < total;
   write_table();

@@ -6,21 +6,17 @@
 #include <random>
 #include <vector>
 
+#include "basis/conditioning.h"
 #include "basis/error.h"
 #include "basis/gram.h"
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
+#include "tests/basis/basis_test_util.h"
 
 namespace zbrdf {
 namespace {
 
-Eigen::VectorXd RandomCoefficients(int n, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0, 1);
-  Eigen::VectorXd y(n);
-  for (int i = 0; i < n; ++i) y(i) = normal(rng);
-  return y;
-}
+using testing::RandomCoefficients;
 
 // ZB moments z_j = integral_Z f Z_j dw of f = sum_i y_i T_i, by direct quadrature of the
 // functions (not through MixedBlock): Gauss in psi x trapezoid in phi, with node counts well
@@ -41,26 +37,11 @@ Eigen::VectorXd MomentsByQuadrature(const ZonalBasis& zb, const TargetBasis& tar
   return z;
 }
 
-// Relative L2 error of sum (y_est - y) T over the theta range [lo, hi] (degrees).
+// Relative L2 error of sum (y_est - y) T over the theta range [lo, hi] (degrees), by the
+// library's ErrorOverBand (tested against independent references in conditioning_test.cc).
 double RelativeError(const TargetBasis& target, const Eigen::VectorXd& y,
                      const Eigen::VectorXd& y_est, double lo_deg, double hi_deg) {
-  if (hi_deg - lo_deg < 1e-9) return 0;
-  const SphereRule rule =
-      ProductRule(CosThetaGaussRule(Zone::FromDegrees(lo_deg, hi_deg), 2 * target.order() + 10),
-                  2 * target.order() + 3);
-  std::vector<double> t(target.size());
-  double err = 0, norm = 0;
-  for (size_t q = 0; q < rule.weights.size(); ++q) {
-    target.Eval(rule.directions[q], t.data());
-    double f = 0, f_est = 0;
-    for (int i = 0; i < target.size(); ++i) {
-      f += y(i) * t[i];
-      f_est += y_est(i) * t[i];
-    }
-    err += rule.weights[q] * (f_est - f) * (f_est - f);
-    norm += rule.weights[q] * f * f;
-  }
-  return std::sqrt(err / norm);
+  return ErrorOverBand(target, y, y_est, DegToRad(lo_deg), DegToRad(hi_deg)).Relative();
 }
 
 struct RoundTrip {
