@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 
+#include "acquisition/session.h"
 #include "basis/error.h"
 #include "rig/direction_maps.h"
 
@@ -78,7 +79,7 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   std::optional<SessionFolder> opened;
   PlanOptions po;
   if (options.resume) {
-    opened = SessionFolder::Open(options.out_dir);
+    opened = SessionFolder::OpenForWriting(options.out_dir);
     if (!opened->session().contains("plan")) {
       throw InputError("session " + options.out_dir + " has no plan in session.json; it cannot be resumed");
     }
@@ -89,7 +90,7 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
     }
   } else {
     // Everything is validated before the folder is created: a refused job leaves no trace.
-    if (std::filesystem::exists(options.out_dir + "/session.json")) {
+    if (SessionFolder::Exists(options.out_dir)) {
       throw InputError("folder " + options.out_dir +
                        " already holds a session; resume it (--resume) or choose another --out");
     }
@@ -163,7 +164,7 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
       std::chrono::duration<double>(std::chrono::steady_clock::now() - pattern_start).count();
 
   ProcessingOptions processing = options.processing;
-  processing.hdr_folder = session.path() + "/hdr";
+  processing.hdr_folder = SessionPath(session.path(), kHdrFolder);
   ZonalProcessor processor(result.plan, patterns.lobes(), calibration, processing);
   processor.Start();
   CaptureOptions capture;
@@ -223,7 +224,7 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   for (const char* key : {"material", "seed", "preset"}) {
     if (session.session().contains(key)) result.zonal.attributes[key] = session.session()[key];
   }
-  WriteZonalExr(session.path() + "/zonal.exr", result.zonal);
+  WriteZonalExr(SessionPath(session.path(), kZonalFile), result.zonal);
   result.complete = true;
   return result;
 }
@@ -231,7 +232,7 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
 ProcessResult ProcessSession(const std::string& session_dir, const RigCalibration& calibration,
                              const ProcessingOptions& options, const std::string& pattern_cache_dir,
                              const ProgressCallback& progress) {
-  const SessionFolder session = SessionFolder::Open(session_dir);
+  const SessionFolder session = SessionFolder::OpenForWriting(session_dir);
   if (!session.session().contains("plan")) {
     throw InputError(session_dir + "/session.json has no plan; the session folder is damaged");
   }
@@ -243,7 +244,7 @@ ProcessResult ProcessSession(const std::string& session_dir, const RigCalibratio
   std::map<int, JournalEntry> journal;
   for (JournalEntry& e : session.ReadJournal()) journal[e.index] = std::move(e);
   ProcessingOptions processing = options;
-  processing.hdr_folder = session_dir + "/hdr";
+  processing.hdr_folder = SessionPath(session_dir, kHdrFolder);
   ZonalProcessor processor(result.plan, patterns.lobes(), calibration, processing);
   processor.Start();
   const int per_lobe = static_cast<int>(result.plan.exposures_us.size()) * result.plan.repeats;
@@ -282,7 +283,7 @@ ProcessResult ProcessSession(const std::string& session_dir, const RigCalibratio
   for (const char* key : {"material", "seed", "preset"}) {
     if (session.session().contains(key)) result.zonal.attributes[key] = session.session()[key];
   }
-  WriteZonalExr(session_dir + "/zonal.exr", result.zonal);
+  WriteZonalExr(SessionPath(session_dir, kZonalFile), result.zonal);
   return result;
 }
 

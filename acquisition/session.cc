@@ -90,13 +90,33 @@ JournalEntry JournalEntry::FromJson(const nlohmann::json& j) {
   return e;
 }
 
+std::string FrameFileName(int index) {
+  char name[40];
+  std::snprintf(name, sizeof(name), "%s/f%06d.tiff", kFramesFolder, index);
+  return name;
+}
+
+std::string FitReportFileName(const std::string& model) {
+  return kFitReportPrefix + model + ".json";
+}
+
+std::string ShFileName(const std::string& target) { return kShFilePrefix + target + ".exr"; }
+
+std::string SessionPath(const std::string& dir, const std::string& name) {
+  return dir + "/" + name;
+}
+
+bool SessionFolder::Exists(const std::string& path) {
+  return std::filesystem::exists(std::filesystem::path(path) / kSessionFile);
+}
+
 SessionFolder SessionFolder::Create(const std::string& path, const nlohmann::json& session) {
-  if (std::filesystem::exists(std::filesystem::path(path) / "session.json")) {
+  if (Exists(path)) {
     throw InputError("folder " + path +
                      " already holds a session; resume it (--resume) or choose another --out");
   }
   std::error_code ec;
-  for (const char* sub : {"", "frames", "hdr"}) {
+  for (const char* sub : {"", kFramesFolder, kHdrFolder}) {
     std::filesystem::create_directories(std::filesystem::path(path) / sub, ec);
     if (ec) throw InputError("cannot create session folder " + path + ": " + ec.message());
   }
@@ -108,31 +128,43 @@ SessionFolder SessionFolder::Create(const std::string& path, const nlohmann::jso
 SessionFolder SessionFolder::Open(const std::string& path) {
   SessionFolder folder(path);
   bool ok = true;
-  const std::string text = ReadBytes(path + "/session.json", &ok);
+  const std::string text = ReadBytes(SessionPath(path, kSessionFile), &ok);
   if (!ok) {
     throw InputError("no session in " + path + " (session.json missing); run zbrdf capture or "
                      "zbrdf simulate with --out " + path + " first");
   }
   folder.session_ = nlohmann::json::parse(text, nullptr, false);
   if (folder.session_.is_discarded() || !folder.session_.is_object()) {
-    throw InputError(path + "/session.json is not valid JSON; the session folder is damaged");
+    throw InputError(SessionPath(path, kSessionFile) +
+                     " is not valid JSON; the session folder is damaged");
   }
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path) / "frames", ec);
-  std::filesystem::create_directories(std::filesystem::path(path) / "hdr", ec);
   return folder;
+}
+
+SessionFolder SessionFolder::OpenForWriting(const std::string& path) {
+  SessionFolder folder = Open(path);
+  std::error_code ec;
+  for (const char* sub : {kFramesFolder, kHdrFolder}) {
+    std::filesystem::create_directories(std::filesystem::path(path) / sub, ec);
+    if (ec) throw InputError("cannot create " + path + "/" + sub + ": " + ec.message());
+  }
+  return folder;
+}
+
+std::string SessionFolder::material() const {
+  const auto it = session_.find("material");
+  return it != session_.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
 void SessionFolder::UpdateSession(const nlohmann::json& session) {
   session_ = session;
-  WriteFileAtomically(path_ + "/session.json", session.dump(2) + "\n");
+  WriteFileAtomically(SessionPath(path_, kSessionFile), session.dump(2) + "\n");
 }
 
 JournalEntry SessionFolder::WriteFrame(int index, const Frame& frame) {
   const std::string bytes = EncodeFrameFile(frame);
-  char name[32];
-  std::snprintf(name, sizeof(name), "frames/f%06d.tiff", index);
-  WriteFileAtomically(path_ + "/" + name, bytes);
+  const std::string name = FrameFileName(index);
+  WriteFileAtomically(SessionPath(path_, name), bytes);
   JournalEntry e;
   e.index = index;
   e.file = name;
@@ -150,7 +182,7 @@ JournalEntry SessionFolder::WriteFrame(int index, const Frame& frame) {
 
 void SessionFolder::AppendJournal(const JournalEntry& entry) {
   const std::string line = entry.ToJson().dump() + "\n";
-  const std::string path = path_ + "/journal.jsonl";
+  const std::string path = SessionPath(path_, kJournalFile);
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   if (fd < 0) throw InputError("cannot append to " + path);
   const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) &&
@@ -161,7 +193,7 @@ void SessionFolder::AppendJournal(const JournalEntry& entry) {
 
 std::vector<JournalEntry> SessionFolder::ReadJournal() const {
   std::map<int, JournalEntry> latest;
-  std::ifstream in(path_ + "/journal.jsonl");
+  std::ifstream in(SessionPath(path_, kJournalFile));
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
@@ -182,11 +214,11 @@ std::vector<JournalEntry> SessionFolder::ReadJournal() const {
 }
 
 bool SessionFolder::FrameIsIntact(const JournalEntry& entry) const {
-  return FileChecksum(path_ + "/" + entry.file) == entry.checksum;
+  return FileChecksum(SessionPath(path_, entry.file)) == entry.checksum;
 }
 
 Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
-  const std::string path = path_ + "/" + entry.file;
+  const std::string path = SessionPath(path_, entry.file);
   bool ok = true;
   const std::string bytes = ReadBytes(path, &ok);
   if (!ok) throw InputError("frame " + path + " is missing; resume the capture to take it again");

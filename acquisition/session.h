@@ -35,6 +35,28 @@
 
 namespace zbrdf {
 
+// The names in a session folder, relative to it (docs/session-folder.md). Whatever reads or writes
+// a session folder names its files with these.
+inline constexpr char kSessionFile[] = "session.json";
+inline constexpr char kJournalFile[] = "journal.jsonl";
+inline constexpr char kFramesFolder[] = "frames";
+inline constexpr char kHdrFolder[] = "hdr";
+inline constexpr char kZonalFile[] = "zonal.exr";
+inline constexpr char kReportFile[] = "report.json";       // zbrdf simulate, capture, process
+inline constexpr char kReportPageFile[] = "report.html";   // zbrdf report
+inline constexpr char kDBrdfFitFile[] = "fit-dbrdf.exr";   // zbrdf fit --model dbrdf
+inline constexpr char kShFile[] = "sh.exr";                // an SH file under its plain name
+inline constexpr char kFitReportPrefix[] = "fit-";
+inline constexpr char kShFilePrefix[] = "sh-";
+// frames/f<index, 6 digits>.tiff
+std::string FrameFileName(int index);
+// fit-<model>.json: a fit's report (for analytic models also the model: its "spec").
+std::string FitReportFileName(const std::string& model);
+// sh-<target>.exr: zbrdf convert's SH file for a target basis (basis/target_basis.h).
+std::string ShFileName(const std::string& target);
+// <dir>/<name>.
+std::string SessionPath(const std::string& dir, const std::string& name);
+
 struct JournalEntry {
   int index = 0;
   std::string lobe;
@@ -56,13 +78,22 @@ struct JournalEntry {
 class SessionFolder {
  public:
   // Creates `path` (and frames/, hdr/) and writes session.json. Throws InputError if the folder
-  // already holds a session: use Open() and resume it, or choose another folder.
+  // already holds a session: use OpenForWriting() and resume it, or choose another folder.
   static SessionFolder Create(const std::string& path, const nlohmann::json& session);
-  // Opens an existing session; throws InputError if there is none or session.json is damaged.
+  // Opens an existing session to read it: reads session.json and writes nothing. Throws
+  // InputError if there is none or session.json is damaged.
   static SessionFolder Open(const std::string& path);
+  // Opens an existing session to add to it (resume a capture, re-process its frames): as Open(),
+  // then creates frames/ and hdr/ if they are missing.
+  static SessionFolder OpenForWriting(const std::string& path);
+  // True if `path` holds a session (a session.json), whether or not it can be read.
+  static bool Exists(const std::string& path);
 
   const std::string& path() const { return path_; }
   const nlohmann::json& session() const { return session_; }
+  // A simulated session's true material (its material spec, session.json "material"); "" for a
+  // measured session.
+  std::string material() const;
   // Rewrites session.json (atomically).
   void UpdateSession(const nlohmann::json& session);
 

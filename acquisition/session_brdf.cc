@@ -2,46 +2,48 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
+#include "acquisition/session.h"
 #include "basis/error.h"
 
 namespace zbrdf {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> SessionShFiles(const std::string& dir) {
+namespace {
+
+// The files in `dir` whose names start with `prefix` and end with `extension`, by name.
+std::vector<std::string> FilesByName(const std::string& dir, const std::string& prefix,
+                                     const std::string& extension) {
   std::vector<std::string> files;
-  if (fs::exists(dir + "/sh.exr")) files.push_back(dir + "/sh.exr");
-  std::vector<std::string> targets;
   std::error_code error;
   for (const auto& entry : fs::directory_iterator(dir, error)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind("sh-", 0) == 0 && entry.path().extension() == ".exr") {
-      targets.push_back(entry.path().string());
+    if (name.rfind(prefix, 0) == 0 && entry.path().extension() == extension) {
+      files.push_back(entry.path().string());
     }
   }
-  std::sort(targets.begin(), targets.end());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace
+
+std::vector<std::string> SessionShFiles(const std::string& dir) {
+  std::vector<std::string> files;
+  if (fs::exists(SessionPath(dir, kShFile))) files.push_back(SessionPath(dir, kShFile));
+  const std::vector<std::string> targets = FilesByName(dir, kShFilePrefix, ".exr");
   files.insert(files.end(), targets.begin(), targets.end());
   return files;
 }
 
 std::vector<std::string> SessionBrdfFiles(const std::string& dir) {
   std::vector<std::string> files;
-  if (fs::exists(dir + "/fit-dbrdf.exr")) files.push_back(dir + "/fit-dbrdf.exr");
-  std::vector<std::string> fits;
-  std::error_code error;
-  for (const auto& entry : fs::directory_iterator(dir, error)) {
-    const std::string name = entry.path().filename().string();
-    // fit-dbrdf.json is the D-BRDF fit's report; the model itself is fit-dbrdf.exr.
-    if (name.rfind("fit-", 0) == 0 && entry.path().extension() == ".json" &&
-        name != "fit-dbrdf.json") {
-      fits.push_back(entry.path().string());
-    }
+  if (fs::exists(SessionPath(dir, kDBrdfFitFile))) files.push_back(SessionPath(dir, kDBrdfFitFile));
+  // The D-BRDF fit's report is not a model (the model is fit-dbrdf.exr).
+  for (const std::string& fit : FilesByName(dir, kFitReportPrefix, ".json")) {
+    if (fs::path(fit).filename() != FitReportFileName("dbrdf")) files.push_back(fit);
   }
-  std::sort(fits.begin(), fits.end());
-  files.insert(files.end(), fits.begin(), fits.end());
   const std::vector<std::string> sh = SessionShFiles(dir);
   files.insert(files.end(), sh.begin(), sh.end());
   return files;
@@ -50,11 +52,16 @@ std::vector<std::string> SessionBrdfFiles(const std::string& dir) {
 BrdfFile ReadSessionBrdf(const std::string& dir) {
   const std::vector<std::string> files = SessionBrdfFiles(dir);
   if (files.empty()) {
-    std::string hint;
-    std::ifstream session(dir + "/session.json");
-    const nlohmann::json j = session ? nlohmann::json::parse(session, nullptr, false) : nullptr;
-    if (j.is_object() && j.contains("material") && j["material"].is_string()) {
-      hint = "; this simulated session's true material is " + j["material"].get<std::string>() +
+    std::string hint, material;
+    if (SessionFolder::Exists(dir)) {
+      try {
+        material = SessionFolder::Open(dir).material();
+      } catch (const InputError&) {
+        // A damaged session.json: no hint.
+      }
+    }
+    if (!material.empty()) {
+      hint = "; this simulated session's true material is " + material +
              ", which can be given as INPUT itself";
     }
     throw InputError("session " + dir +

@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "acquisition/capture_job.h"
+#include "acquisition/session.h"
 #include "basis/error.h"
 #include "basis/quadrature.h"
 #include "basis/spherical_harmonics.h"
@@ -38,7 +39,7 @@ GrayCardResult CalibrateGrayCard(CalibrationRig& rig, const Rig& design,
                                  const PixelField* prior_camera_flat, const std::string& session_dir,
                                  const std::string& pattern_cache_dir) {
   rig.place_target(Target::kGrayCard);
-  if (std::filesystem::exists(session_dir + "/session.json")) {
+  if (SessionFolder::Exists(session_dir)) {
     std::filesystem::remove_all(session_dir);  // the calibration's own, earlier gray-card session
   }
   RigCalibration base = calibration;

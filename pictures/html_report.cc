@@ -5,8 +5,10 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
+#include "acquisition/session.h"
 #include "acquisition/session_brdf.h"
 #include "acquisition/zonal.h"
 #include "basis/error.h"
@@ -214,13 +216,15 @@ std::string HtmlEscape(const std::string& text) {
 }
 
 SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions& options) {
-  const nlohmann::json session = ReadJson(dir + "/session.json");
-  if (!session.is_object()) {
-    throw InputError(dir +
-                     " is not a session folder (no readable session.json); give the folder "
-                     "zbrdf simulate or zbrdf capture wrote");
+  std::optional<SessionFolder> folder;
+  try {
+    folder = SessionFolder::Open(dir);
+  } catch (const InputError& e) {
+    throw InputError(dir + " is not a session folder (" + e.what() +
+                     "); give the folder zbrdf simulate or zbrdf capture wrote");
   }
-  const nlohmann::json report = ReadJson(dir + "/report.json");
+  const nlohmann::json& session = folder->session();
+  const nlohmann::json report = ReadJson(SessionPath(dir, kReportFile));
   SessionReportPage page;
   std::string body;
   const std::string name = fs::path(dir).filename().empty()
@@ -276,8 +280,8 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
     page.notes.push_back(e.what());
     body += "<div class=\"note\">" + HtmlEscape(e.what()) + "</div>\n";
   }
-  if (session.contains("material") && session["material"].is_string()) {
-    truth_spec = session["material"].get<std::string>();
+  if (!folder->material().empty()) {
+    truth_spec = folder->material();
     try {
       truth = MakeBrdf(truth_spec);
     } catch (const InputError& e) {
@@ -323,8 +327,8 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
   // Coefficient energy per band.
   std::vector<BandEnergy> energies;
   try {
-    if (fs::exists(dir + "/zonal.exr"))
-      energies.push_back(ZonalBandEnergy(ReadZonalExr(dir + "/zonal.exr")));
+    if (fs::exists(SessionPath(dir, kZonalFile)))
+      energies.push_back(ZonalBandEnergy(ReadZonalExr(SessionPath(dir, kZonalFile))));
     const std::vector<std::string> sh_files = SessionShFiles(dir);
     if (!sh_files.empty()) energies.push_back(ShBandEnergy(ReadShFile(sh_files.front())));
   } catch (const InputError& e) {

@@ -111,7 +111,7 @@ class MaterialBench {
     CaptureJobResult result =
         RunCaptureJob(rig_, calibration_, vr.camera(), vr.projector(), vr.clock(), job);
     *capture_time_s = (vr.clock().NowUs() - start_us) * 1e-6;
-    if (!options_.keep_frames) fs::remove_all(dir + "/frames");
+    if (!options_.keep_frames) fs::remove_all(SessionPath(dir, kFramesFolder));
     return result;
   }
 

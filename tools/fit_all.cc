@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 
+#include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
@@ -197,7 +198,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
     bool simulated = false, reused_session = false, failed = false;
     int fitted = 0, reused_fits = 0;
     try {
-      if (!std::filesystem::exists(dir + "/zonal.exr")) {
+      if (!std::filesystem::exists(SessionPath(dir, kZonalFile))) {
         VirtualCaptureArgs args;
         args.rig = rig;
         args.preset_name = options.preset;
@@ -205,7 +206,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
         args.seed = options.seed;
         args.job.out_dir = dir;
         args.job.order = options.order;
-        args.job.resume = std::filesystem::exists(dir + "/session.json");
+        args.job.resume = SessionFolder::Exists(dir);
         args.job.interrupt = options.interrupt;
         VirtualCaptureOutcome outcome;
         try {
@@ -231,7 +232,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
         reused_session = true;
       }
       for (const std::string& model : options.models) {
-        const std::string report_path = dir + "/fit-" + model + ".json";
+        const std::string report_path = SessionPath(dir, FitReportFileName(model));
         nlohmann::json report = options.refit ? nlohmann::json(nullptr) : ReadJsonFile(report_path);
         if (report.is_null() || !report.contains("error_cosine_l2")) {
           FitSessionOptions fit;

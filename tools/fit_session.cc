@@ -73,7 +73,7 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
   if (model_name != "dbrdf" && model_name != "ggx" && model_name != "ward" && model_name != "as") {
     throw InputError("unknown model '" + model_name + "'; use dbrdf, ggx, ward or as");
   }
-  const std::string zonal_path = session_dir + "/zonal.exr";
+  const std::string zonal_path = SessionPath(session_dir, kZonalFile);
   if (!std::filesystem::exists(zonal_path)) {
     throw InputError(session_dir + " has no zonal.exr; capture or simulate the session first "
                      "(zbrdf simulate / zbrdf capture), or process it (zbrdf process)");
@@ -176,9 +176,9 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
   report["warnings"] = warnings;
   if (options.write_outputs) {
     nlohmann::json outputs = nlohmann::json::object();
-    const std::string json_path = session_dir + "/fit-" + model_name + ".json";
+    const std::string json_path = SessionPath(session_dir, FitReportFileName(model_name));
     if (model_name == "dbrdf") {
-      const std::string exr_path = session_dir + "/fit-dbrdf.exr";
+      const std::string exr_path = SessionPath(session_dir, kDBrdfFitFile);
       outputs["dbrdf"] = exr_path;
       report["outputs"] = outputs;
       WriteDBrdfFile(exr_path, static_cast<const DBrdf&>(*outcome.model), report);

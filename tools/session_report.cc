@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/zone.h"
 
@@ -58,7 +59,7 @@ void PrintPlanSummary(const CapturePlan& plan, double predicted_s) {
 }
 
 void WriteSessionReport(const std::string& session_dir, const nlohmann::json& report) {
-  WriteFileAtomically(session_dir + "/report.json", report.dump(2) + "\n");
+  WriteFileAtomically(SessionPath(session_dir, kReportFile), report.dump(2) + "\n");
 }
 
 std::string FormatCaptureSummary(const nlohmann::json& j) {

@@ -19,6 +19,7 @@
 #include <ImfOutputPart.h>
 
 #include "acquisition/hdr.h"
+#include "acquisition/session.h"
 #include "acquisition/zonal.h"
 #include "basis/conditioning.h"
 #include "basis/conversion.h"
@@ -286,7 +287,7 @@ void CopyExrWithValue(const std::string& from, const std::string& to, const std:
 std::string RunZonalWriteNan(const std::string& dir) {
   ZonalData d = SmallZonalData();
   d.tensor[1](3, 2) = kNaN;
-  WriteZonalExr(dir + "/zonal.exr", d);
+  WriteZonalExr(SessionPath(dir, kZonalFile), d);
   return "wrote zonal data holding a NaN";
 }
 
@@ -295,13 +296,13 @@ std::string RunZonalWriteOverflow(const std::string& dir) {
   ZonalData d = SmallZonalData();
   d.functions[4].value[0][10] = std::numeric_limits<float>::max();
   d.tensor[0](0, 0) = 1e39;
-  WriteZonalExr(dir + "/zonal.exr", d);
+  WriteZonalExr(SessionPath(dir, kZonalFile), d);
   return "wrote zonal data beyond float range";
 }
 
 std::string RunZonalRead(const std::string& dir, const std::string& part, const std::string& channel,
                          float value) {
-  const std::string good = dir + "/good.exr", bad = dir + "/zonal.exr";
+  const std::string good = dir + "/good.exr", bad = SessionPath(dir, kZonalFile);
   WriteZonalExr(good, SmallZonalData());
   ReadZonalExr(good);  // the undamaged file reads
   CopyExrWithValue(good, bad, part, channel, 5, value);
@@ -377,18 +378,13 @@ std::string RunAllZeroSession(const std::string& dir) {
     d.tensor[ch].setZero();
     d.tensor_variance[ch].setZero();
   }
-  WriteZonalExr(session + "/zonal.exr", d);
-  {
-    std::FILE* f = std::fopen((session + "/session.json").c_str(), "w");
-    Check(f != nullptr, "cannot write session.json");
-    const std::string text = nlohmann::json({{"material", "lambert:0"}, {"kind", "simulated"},
-                                             {"rig", {{"name", "stress"}}}, {"seed", 1},
-                                             {"calibration", "nominal"}})
-                                 .dump();
-    std::fputs(text.c_str(), f);
-    std::fclose(f);
-  }
-  const ZonalTensor data = ToZonalTensor(ReadZonalExr(session + "/zonal.exr"));
+  WriteZonalExr(SessionPath(session, kZonalFile), d);
+  SessionFolder::Create(session, {{"material", "lambert:0"},
+                                  {"kind", "simulated"},
+                                  {"rig", {{"name", "stress"}}},
+                                  {"seed", 1},
+                                  {"calibration", "nominal"}});
+  const ZonalTensor data = ToZonalTensor(ReadZonalExr(SessionPath(session, kZonalFile)));
   std::string detail;
   try {
     const ShConversionResult sh = ConvertToSh(data, {});
@@ -448,7 +444,7 @@ std::string RunCapture(const CaptureCase& c, const StressOptions& options, const
                        std::to_string(outcome.result.processing.saturated_pixels);
 
   // The SH conversion (automatic tau), written like `zbrdf convert` does.
-  const ZonalData zonal = ReadZonalExr(session + "/zonal.exr");
+  const ZonalData zonal = ReadZonalExr(SessionPath(session, kZonalFile));
   const ZonalTensor data = ToZonalTensor(zonal);
   double max_abs = 0;
   for (int ch = 0; ch < 3; ++ch) max_abs = std::max(max_abs, data.z[ch].cwiseAbs().maxCoeff());
@@ -550,7 +546,7 @@ std::vector<StressCase> MakeCases() {
                      try {
                        return RunZonalWriteNan(dir);
                      } catch (const NumericalError&) {
-                       Check(!fs::exists(dir + "/zonal.exr"), "a file was written anyway");
+                       Check(!fs::exists(SessionPath(dir, kZonalFile)), "a file was written anyway");
                        throw;
                      }
                    }});

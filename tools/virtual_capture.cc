@@ -145,7 +145,7 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     if (args.calibration_folder.empty()) args.calibration_folder = s.value("calibration_folder", std::string());
   }
   if (args.material_spec.empty()) throw InputError("no --material given for the virtual rig");
-  if (!args.job.resume && std::filesystem::exists(args.job.out_dir + "/session.json")) {
+  if (!args.job.resume && SessionFolder::Exists(args.job.out_dir)) {
     throw InputError("folder " + args.job.out_dir +
                      " already holds a session; resume it (--resume) or choose another --out");
   }

@@ -12,6 +12,7 @@
 #include "acquisition/capture_job.h"
 #include "acquisition/frame_file.h"
 #include "acquisition/hdr.h"
+#include "acquisition/session.h"
 #include "basis/data_path.h"
 #include "brdf/material_spec.h"
 #include "simulate/virtual_rig.h"
@@ -32,7 +33,7 @@ struct BenchSession {
     const OpticalSystem optics(rig);
     calibration = std::make_unique<RigCalibration>(
         NominalCalibration(rig, LoadOrBuildRigMaps(optics, DefaultCacheDir())));
-    if (std::filesystem::exists(dir + "/zonal.exr")) return;
+    if (std::filesystem::exists(SessionPath(dir, kZonalFile))) return;
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(std::filesystem::path(dir).parent_path());
     std::fprintf(stderr, "simulating the benchmark session into %s (once, about a minute)\n",

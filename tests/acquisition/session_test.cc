@@ -55,6 +55,39 @@ TEST(Session, ExistingSessionIsNeverOverwritten) {
   fs::remove_all(dir);
 }
 
+TEST(Session, OpenOnlyReadsAndOpenForWritingRestoresTheFolders) {
+  const std::string dir = TempDir("read-only");
+  SessionFolder::Create(dir, {{"material", "lambert:0.5"}});
+  EXPECT_TRUE(SessionFolder::Exists(dir));
+  fs::remove_all(dir + "/frames");
+  fs::remove_all(dir + "/hdr");
+  const auto before = fs::last_write_time(dir + "/session.json");
+  const SessionFolder read = SessionFolder::Open(dir);
+  EXPECT_EQ(read.material(), "lambert:0.5");
+  EXPECT_FALSE(fs::exists(dir + "/frames"));
+  EXPECT_FALSE(fs::exists(dir + "/hdr"));
+  EXPECT_EQ(fs::last_write_time(dir + "/session.json"), before);
+  SessionFolder::OpenForWriting(dir);
+  EXPECT_TRUE(fs::is_directory(dir + "/frames"));
+  EXPECT_TRUE(fs::is_directory(dir + "/hdr"));
+  EXPECT_FALSE(SessionFolder::Exists(dir + "/frames"));
+  fs::remove_all(dir);
+}
+
+TEST(Session, FileNamesFollowTheDocumentedLayout) {
+  // docs/session-folder.md.
+  EXPECT_EQ(FrameFileName(42), "frames/f000042.tiff");
+  EXPECT_EQ(FitReportFileName("ggx"), "fit-ggx.json");
+  EXPECT_EQ(ShFileName("sh-even"), "sh-sh-even.exr");
+  EXPECT_EQ(SessionPath("/tmp/s", kZonalFile), "/tmp/s/zonal.exr");
+  const std::string dir = TempDir("names");
+  SessionFolder s = SessionFolder::Create(dir, nlohmann::json::object());
+  const JournalEntry e = s.WriteFrame(7, SmallFrame(100));
+  EXPECT_EQ(e.file, FrameFileName(7));
+  EXPECT_TRUE(fs::exists(SessionPath(dir, e.file)));
+  fs::remove_all(dir);
+}
+
 TEST(Session, OpenNamesWhatIsMissingOrDamaged) {
   const std::string dir = TempDir("open");
   EXPECT_THROW(SessionFolder::Open(dir), InputError);

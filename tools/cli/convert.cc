@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "acquisition/session.h"
 #include "acquisition/zonal.h"
 #include "basis/error.h"
 #include "brdf/sh_brdf.h"
@@ -44,14 +45,15 @@ int RunConvert(const std::vector<std::string>& args) {
   if (!cl.Parse(args)) return 0;
   if (cl.Get("to") != "sh") throw InputError("--to supports sh (got " + cl.Get("to") + ")");
   const std::string session = cl.Positional(0);
-  const ZonalData zonal = ReadZonalExr(session + "/zonal.exr");
+  const ZonalData zonal = ReadZonalExr(SessionPath(session, kZonalFile));
   const ZonalTensor data = ToZonalTensor(zonal);
   ShConversionOptions options;
   options.target = ParseTargetName(cl.Get("target"));
   if (cl.Has("sh-order")) options.order = cl.GetInt("sh-order", 0, 30);
   if (cl.Has("tau")) options.tau = cl.GetDouble("tau", 0.0, 0.999);
   const ShConversionResult result = ConvertToSh(data, options);
-  const std::string out = cl.Has("out") ? cl.Get("out") : session + "/sh-" + TargetName(options.target) + ".exr";
+  const std::string out = cl.Has("out") ? cl.Get("out")
+                                        : SessionPath(session, ShFileName(TargetName(options.target)));
   WriteShFile(out, result.data);
   nlohmann::json report = result.ToJson();
   report["session"] = session;

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "acquisition/session.h"
 #include "acquisition/session_brdf.h"
 #include "acquisition/zonal.h"
 #include "basis/atomic_file.h"
@@ -66,13 +67,17 @@ int RunPlot(const std::vector<std::string>& args) {
   // Zonal and SH data for the band energy.
   std::string zonal_path, sh_path, truth_spec;
   if (fs::is_directory(input_text)) {
-    if (fs::exists(input_text + "/zonal.exr")) zonal_path = input_text + "/zonal.exr";
+    if (fs::exists(SessionPath(input_text, kZonalFile))) {
+      zonal_path = SessionPath(input_text, kZonalFile);
+    }
     const std::vector<std::string> sh_files = SessionShFiles(input_text);
     if (!sh_files.empty()) sh_path = sh_files.front();
-    std::ifstream session(input_text + "/session.json");
-    const nlohmann::json j = session ? nlohmann::json::parse(session, nullptr, false) : nullptr;
-    if (j.is_object() && j.contains("material") && j["material"].is_string()) {
-      truth_spec = j["material"].get<std::string>();
+    if (SessionFolder::Exists(input_text)) {
+      try {
+        truth_spec = SessionFolder::Open(input_text).material();
+      } catch (const InputError&) {
+        // A damaged session.json: no true material to plot; the BRDF below says what is wrong.
+      }
     }
   } else if (fs::path(input_text).extension() == ".exr" && fs::is_regular_file(input_text)) {
     // A zonal.exr is data to plot, not a BRDF.

@@ -56,7 +56,7 @@ int RunProcess(const std::vector<std::string>& argv) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json report;
   {
-    std::ifstream in(dir + "/report.json");
+    std::ifstream in(SessionPath(dir, kReportFile));
     if (in) report = nlohmann::json::parse(in, nullptr, false);
     if (!report.is_object()) report = nlohmann::json::object();
   }

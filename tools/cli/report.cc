@@ -3,9 +3,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "acquisition/session.h"
 #include "basis/atomic_file.h"
-#include "tools/cli/command.h"
 #include "pictures/html_report.h"
+#include "tools/cli/command.h"
 
 namespace zbrdf::cli {
 namespace {
@@ -28,7 +29,7 @@ int RunReport(const std::vector<std::string>& args) {
   options.preview_size = cl.GetInt("size", 16, 1024);
   options.preview_spp = cl.GetInt("spp", 1, 4096);
   const SessionReportPage page = BuildSessionReport(dir, options);
-  const std::string out = cl.Has("out") ? cl.Get("out") : dir + "/report.html";
+  const std::string out = cl.Has("out") ? cl.Get("out") : SessionPath(dir, kReportPageFile);
   WriteFileAtomically(out, page.html);
   if (cl.Has("json")) {
     std::cout << nlohmann::json{{"report", out}, {"sections", page.sections}, {"notes", page.notes}}
