@@ -4,35 +4,30 @@
 #include <cmath>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/spherical_harmonics.h"
 
 namespace zbrdf {
 
 void AdaptiveOptions::Validate() const {
-  if (min_order < 0 || min_order > 30) throw InputError("adaptive: min order must be in [0, 30]");
-  if (!(error_target >= 0 && error_target < 1)) {
-    throw InputError("adaptive: the error target must be in [0, 1) (a relative error; 0: none)");
+  OptionChecker check("AdaptiveOptions");
+  check.InRange("min_order", min_order, 0, 30)
+      .InRangeBelow("error_target", error_target, 0, 1)  // a relative error; 0: none
+      .InRangeBelow("isotropy_threshold", isotropy_threshold, 0, 1);  // 0: never isotropic
+  for (size_t i = 0; i < floor_profile.size(); ++i) {
+    check.Require(floor_profile[i] >= 0 && std::isfinite(floor_profile[i]),
+                  "floor_profile[" + std::to_string(i) + "]",
+                  "must be >= 0 and finite (got " + FormatOptionValue(floor_profile[i]) + ")");
   }
-  if (!(isotropy_threshold >= 0 && isotropy_threshold < 1)) {
-    throw InputError("adaptive: isotropy threshold must be in [0, 1) (0: never isotropic)");
-  }
-  for (double v : floor_profile) {
-    if (!(v >= 0 && std::isfinite(v)))
-      throw InputError("adaptive: floor profile values must be >= 0");
-  }
-  if (!(noise_ratio > 0 && noise_ratio <= 100))
-    throw InputError("adaptive: noise ratio must be in (0, 100]");
-  // The plan brackets t0 and max_ratio t0, at most 8 f-stops apart (MakePlan).
-  if (!(max_ratio >= 1 && max_ratio <= 256)) {
-    throw InputError("adaptive: max exposure ratio must be in [1, 256]");
-  }
-  if (!(clip_quantile > 0.5 && clip_quantile <= 1))
-    throw InputError("adaptive: clip quantile must be in (0.5, 1]");
-  if (!(target_level > 0 && target_level < 0.95)) {
-    throw InputError(
-        "adaptive: target level must be in (0, 0.95) of the range (the HDR merge drops "
-        "samples above 0.95)");
-  }
+  check.InRangeAbove("noise_ratio", noise_ratio, 0, 100)
+      // The plan brackets t0 and max_ratio t0, at most 8 f-stops apart (MakePlan).
+      .InRange("max_ratio", max_ratio, 1, 256)
+      .InRangeAbove("clip_quantile", clip_quantile, 0.5, 1)
+      // The HDR merge drops samples above 0.95 of the range.
+      .Require(target_level > 0 && target_level < 0.95, "target_level",
+               "must be in (0, 0.95) of the range: the HDR merge drops samples above 0.95 (got " +
+                   FormatOptionValue(target_level) + ")")
+      .ThrowIfInvalid();
 }
 
 nlohmann::json AdaptiveOptions::ToJson() const {

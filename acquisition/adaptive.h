@@ -66,7 +66,8 @@ struct AdaptiveOptions {
   double clip_quantile = 0.995;
   double target_level = 0.9;  // of the sensor's range (black to saturation) at that quantile
 
-  // Throws InputError naming the first bad field.
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
   void Validate() const;
   nlohmann::json ToJson() const;
   static AdaptiveOptions FromJson(const nlohmann::json& j);

@@ -11,6 +11,7 @@
 
 #include "acquisition/session.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "rig/direction_maps.h"
 
 namespace zbrdf {
@@ -69,13 +70,34 @@ double MeterExposure(Camera& camera, Projector& projector, Clock& clock,
                     "pattern into the sensor's range; check the projector and the lens cap");
 }
 
+void CaptureJobOptions::Validate() const {
+  OptionChecker check("CaptureJobOptions");
+  check.Require(!out_dir.empty(), "out_dir", "must name the session folder (--out)")
+      .InRange("order", order, 0, 30);
+  if (zone_min_deg >= 0 && zone_max_deg > 0) {
+    check.ValidZone("zone_min_deg, zone_max_deg", DegToRad(zone_min_deg), DegToRad(zone_max_deg));
+  }
+  // An adaptive capture decides its own bracket (acquisition/adaptive.h).
+  if (!(adaptive.enabled && adaptive.adaptive_exposures)) {
+    check.InRange("exposures", exposures, 1, 10).InRangeAbove("stops_apart", stops_apart, 0, 8);
+  }
+  check.Require(shortest_exposure_us >= 0 && std::isfinite(shortest_exposure_us),
+                "shortest_exposure_us",
+                "must be > 0, or 0 to meter it (got " + FormatOptionValue(shortest_exposure_us) +
+                    ")")
+      .InRange("repeats", repeats, 1, 100)
+      .Nested("processing", processing);
+  if (adaptive.enabled) check.Nested("adaptive", adaptive);
+  check.ThrowIfInvalid();
+}
+
 CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration, Camera& camera,
                                Projector& projector, Clock& clock,
                                const CaptureJobOptions& options) {
+  options.Validate();
   CaptureJobResult result;
   const double settle_us =
       options.settle_us >= 0 ? options.settle_us : rig.timing.projector_settle_ms * 1e3;
-  if (options.out_dir.empty()) throw InputError("no output folder (--out)");
   std::optional<SessionFolder> opened;
   PlanOptions po;
   if (options.resume) {
@@ -117,7 +139,6 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
     po.exposures = options.exposures;
     po.stops_apart = options.stops_apart;
     if (options.adaptive.enabled) {
-      options.adaptive.Validate();
       if (options.adaptive.adaptive_exposures) {
         // The metered frame, then one as long as the pattern's response allows.
         po.exposures = options.adaptive.max_ratio > 1 ? 2 : 1;

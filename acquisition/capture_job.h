@@ -49,6 +49,10 @@ struct CaptureJobOptions {
   // are decided while capturing (acquisition/adaptive.h). A resumed session uses the options in
   // its session.json instead.
   AdaptiveOptions adaptive;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct CaptureJobResult {

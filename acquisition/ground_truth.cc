@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/quadrature.h"
 
@@ -36,11 +37,17 @@ void Point(int i, int n, uint32_t mask_u, uint32_t mask_v, double* u, double* v)
 
 }  // namespace
 
+void GroundTruthOptions::Validate() const {
+  OptionChecker check("GroundTruthOptions");
+  check.Require(samples >= 16 && (samples & (samples - 1)) == 0, "samples",
+                "must be a power of two >= 16 (got " + std::to_string(samples) + ")")
+      .AtLeast("phi_stride", phi_stride, 1)
+      .ThrowIfInvalid();
+}
+
 GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
                                   const GroundTruthOptions& options) {
-  if (options.samples < 16 || (options.samples & (options.samples - 1)) != 0) {
-    throw InputError("ground truth samples must be a power of two >= 16");
-  }
+  options.Validate();
   const ExitantGrid& grid = layout.grid;
   const Zone zone = layout.zone();
   const ZonalBasis zb(zone, layout.order);

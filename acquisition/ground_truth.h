@@ -23,6 +23,10 @@ struct GroundTruthOptions {
   int samples = 4096;  // incident samples per exitant point (glossy materials)
   int phi_stride = 6;  // every theta row, every phi_stride-th column of the grid
   uint64_t seed = 99;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct GroundTruth {

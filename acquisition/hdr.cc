@@ -7,18 +7,23 @@
 #include <opencv2/imgproc.hpp>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "drivers/demosaic.h"
 
 namespace zbrdf {
 
+void HdrOptions::Validate() const {
+  OptionChecker check("HdrOptions");
+  check.InRangeAbove("safe_saturation_fraction", safe_saturation_fraction, 0, 1)
+      .InRange("iterations", iterations, 1, 100)
+      .ThrowIfInvalid();
+}
+
 HdrImage MergeExposures(const std::vector<Frame>& frames, const RigCalibration& c,
                         const std::string& what, const HdrOptions& options) {
+  options.Validate();
   if (frames.empty()) throw InputError(what + ": no frames to merge");
-  if (options.iterations < 1) {
-    throw InputError(what + ": HDR merge needs at least 1 reweighting iteration (got " +
-                     std::to_string(options.iterations) + ")");
-  }
   HdrImage hdr;
   hdr.width = frames[0].width;
   hdr.height = frames[0].height;

@@ -36,6 +36,10 @@ struct HdrImage {
 struct HdrOptions {
   double safe_saturation_fraction = 0.95;  // of the range from black to saturation
   int iterations = 3;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 // frames: the same pattern at different exposures (any order). `what` names them in errors.

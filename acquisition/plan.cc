@@ -5,6 +5,7 @@
 
 #include "acquisition/json_integer.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 
 namespace zbrdf {
 
@@ -85,21 +86,19 @@ CapturePlan CapturePlan::FromJson(const nlohmann::json& j) {
   return plan;
 }
 
+void PlanOptions::Validate() const {
+  OptionChecker check("PlanOptions");
+  check.ValidZone("theta_min_rad, theta_max_rad", theta_min_rad, theta_max_rad)
+      .InRange("order", order, 0, 30)
+      .InRange("exposures", exposures, 1, 10)
+      .InRangeAbove("stops_apart", stops_apart, 0, 8)
+      .Positive("shortest_exposure_us", shortest_exposure_us)
+      .InRange("repeats", repeats, 1, 100)
+      .ThrowIfInvalid();
+}
+
 CapturePlan MakePlan(const PlanOptions& o) {
-  if (o.order < 0 || o.order > 30) {
-    throw InputError("order " + std::to_string(o.order) + " is out of range [0, 30]");
-  }
-  if (o.exposures < 1 || o.exposures > 10) {
-    throw InputError("exposure bracket of " + std::to_string(o.exposures) +
-                     " exposures is out of range [1, 10]");
-  }
-  if (!(o.stops_apart > 0 && o.stops_apart <= 8)) {
-    throw InputError("exposures must be (0, 8] f-stops apart");
-  }
-  if (!(o.shortest_exposure_us > 0 && std::isfinite(o.shortest_exposure_us))) {
-    throw InputError("the shortest exposure must be > 0 us");
-  }
-  if (o.repeats < 1 || o.repeats > 100) throw InputError("repeats must be in [1, 100]");
+  o.Validate();
   CapturePlan plan;
   const Zone zone(o.theta_min_rad, o.theta_max_rad);  // validates
   plan.theta_min_rad = zone.theta_min_rad();

@@ -62,6 +62,10 @@ struct PlanOptions {
   double stops_apart = 2;       // f-stops between neighbouring exposures (factor 2^stops)
   double shortest_exposure_us = 10000;
   int repeats = 1;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 // Throws InputError for an order outside [0, 30], exposures outside [1, 10], stops <= 0, etc.

@@ -12,6 +12,7 @@
 #include <half.h>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
 
@@ -63,9 +64,18 @@ std::string SafeName(const std::string& lobe) {
 
 }  // namespace
 
+void ProcessingOptions::Validate() const {
+  OptionChecker check("ProcessingOptions");
+  check.InRangeAbove("theta_step_deg", theta_step_deg, 0, 10)
+      .InRangeAbove("phi_step_deg", phi_step_deg, 0, 10)
+      .Nested("hdr", hdr)
+      .ThrowIfInvalid();
+}
+
 ZonalProcessor::ZonalProcessor(const CapturePlan& plan, const std::vector<LobePatternInfo>& patterns,
                                const RigCalibration& calibration, const ProcessingOptions& options)
     : plan_(plan), patterns_(patterns), calibration_(calibration), options_(options) {
+  options.Validate();
   if (patterns_.size() != plan.lobes.size()) {
     throw InputError("pattern set does not match the plan (" + std::to_string(patterns_.size()) +
                      " patterns for " + std::to_string(plan.lobes.size()) + " lobes)");

@@ -36,6 +36,10 @@ struct ProcessingOptions {
   // gray-card calibration derives the camera's flat field from them.
   std::function<void(int k, const std::vector<float>& value, const std::vector<uint8_t>& valid)>
       pixel_values;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct ProcessingStats {

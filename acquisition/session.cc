@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/hash.h"
+#include "basis/option_checker.h"
 
 namespace zbrdf {
 
@@ -238,9 +240,18 @@ Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
   return f;
 }
 
+void CaptureOptions::Validate() const {
+  OptionChecker check("CaptureOptions");
+  check.Above("grab_timeout (ms)", static_cast<double>(grab_timeout.count()), 0)
+      .Require(settle_us >= 0 && std::isfinite(settle_us), "settle_us",
+               "must be >= 0 and finite (got " + FormatOptionValue(settle_us) + ")")
+      .ThrowIfInvalid();
+}
+
 CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
                          const PatternSet& patterns, Camera& camera, Projector& projector,
                          Clock& clock, const CaptureOptions& options) {
+  options.Validate();
   CaptureResult result;
   std::map<int, JournalEntry> done;
   int journaled_but_broken = 0;

@@ -139,6 +139,10 @@ struct CaptureOptions {
   // If set and true for a lobe, it is not captured (its pattern is not shown); on_lobe_complete
   // gets no frames for it (the processor synthesizes it: isotropy, docs/adaptive.md).
   std::function<bool(int lobe)> skip_lobe;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct CaptureResult {

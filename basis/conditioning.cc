@@ -6,6 +6,8 @@
 
 #include "basis/conversion.h"
 #include "basis/gram.h"
+#include "basis/legendre.h"
+#include "basis/option_checker.h"
 #include "basis/projection.h"
 #include "basis/quadrature.h"
 
@@ -48,6 +50,7 @@ BandError ErrorOverBand(const TargetBasis& target, const Eigen::VectorXd& y,
 }
 
 ConditioningReport AnalyzeConditioning(const ConditioningOptions& options) {
+  options.Validate();
   const Zone zone(options.theta_min_rad, options.theta_max_rad);
   const ZonalBasis zb(zone, options.zb_order);
   const TargetBasis target(options.target, options.target_order);
@@ -151,6 +154,16 @@ ConditioningReport AnalyzeConditioning(const ConditioningOptions& options) {
                               "order above the zonal order); they are set to minimum norm (0)");
   }
   return report;
+}
+
+void ConditioningOptions::Validate() const {
+  OptionChecker check("ConditioningOptions");
+  check.ValidZone("theta_min_rad, theta_max_rad", theta_min_rad, theta_max_rad)
+      .InRange("zb_order", zb_order, 0, kMaxLegendreDegree)
+      .InRange("target_order", target_order, 0, kMaxLegendreDegree)
+      .InRangeBelow("tau", tau, 0, 1)
+      .InRange("noise_relative", noise_relative, 0, 1)
+      .ThrowIfInvalid();
 }
 
 }  // namespace zbrdf

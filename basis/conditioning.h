@@ -30,6 +30,10 @@ struct ConditioningOptions {
   // a typical HDR capture's coefficient noise.
   double noise_relative = 1e-3;
   uint64_t seed = 1;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct ConditioningReport {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "brdf/dbrdf.h"
 #include "brdf/ggx.h"
@@ -184,6 +185,17 @@ bool LooksIsotropic(const Brdf& brdf) {
   return true;
 }
 
+void RglExportOptions::Validate() const {
+  OptionChecker check("RglExportOptions");
+  check.InRange("theta_nodes", theta_nodes, 2, 1024)
+      .InRange("phi_nodes", phi_nodes, 3, 1024)
+      .InRange("ndf_resolution", ndf_resolution, 8, 4096)
+      .InRange("vndf_resolution", vndf_resolution, 4, 4096)
+      .InRange("vndf_resolution_anisotropic", vndf_resolution_anisotropic, 4, 4096)
+      .InRange("sample_resolution", sample_resolution, 4, 4096)
+      .ThrowIfInvalid();
+}
+
 void MakeRglTensors(const Brdf& brdf, const RglExportOptions& options, RglExportReport* report,
                     TensorFile* rgb, TensorFile* spectral) {
   if (brdf.IsDelta()) {
@@ -191,12 +203,7 @@ void MakeRglTensors(const Brdf& brdf, const RglExportOptions& options, RglExport
                      " is a delta (mirror) material; a .bsdf file tabulates densities and cannot "
                      "hold it. Use the renderer's own conductor material instead");
   }
-  if (options.theta_nodes < 2 || options.phi_nodes < 3 || options.ndf_resolution < 8 ||
-      options.vndf_resolution < 4 || options.sample_resolution < 4) {
-    throw InputError(
-        "rgl export: resolutions too small (theta nodes >= 2, phi nodes >= 3, ndf >= 8, vndf >= "
-        "4, sample grid >= 4)");
-  }
+  options.Validate();
   RglExportReport local_report;
   RglExportReport& rep = report ? *report : local_report;
   rep = RglExportReport();

@@ -39,6 +39,10 @@ struct RglExportOptions {
   int sample_resolution = 32;            // luminance and rgb/spectra grids per w_o, both axes
   bool clamp_invalid = false;  // write NaN and negative f_r as 0 (counted) instead of failing
   std::string description;     // the file's description field
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct RglExportReport {

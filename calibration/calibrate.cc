@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "calibration/calibration_data.h"
 #include "calibration/float_image.h"
 #include "calibration/graycard.h"
@@ -95,6 +96,14 @@ const std::vector<std::string>& CalibrationSteps() {
   return steps;
 }
 
+void CalibrateOptions::Validate() const {
+  OptionChecker check("CalibrateOptions");
+  check.Require(!folder.empty(), "folder", "must name the calibration folder (--out)")
+      .Nested("geometry", geometry)
+      .Nested("noise", noise)
+      .ThrowIfInvalid();
+}
+
 nlohmann::json RunCalibration(const std::string& step, CalibrationRig& rig, const Rig& design,
                               const CalibrateOptions& options) {
   std::vector<std::string> steps;
@@ -105,7 +114,7 @@ nlohmann::json RunCalibration(const std::string& step, CalibrationRig& rig, cons
   } else {
     throw InputError("unknown calibration step '" + step + "'; valid: geometry, noise, projector, graycard, all");
   }
-  if (options.folder.empty()) throw InputError("no calibration folder (--out)");
+  options.Validate();
   CalibrationData data = std::filesystem::exists(options.folder + "/calibration.json")
                              ? LoadCalibration(options.folder)
                              : NewCalibration(design);

@@ -19,6 +19,10 @@ struct CalibrateOptions {
   std::string pattern_cache_dir;  // gray-card session patterns ("" : cache_dir)
   GeometryOptions geometry;
   NoiseOptions noise;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 // The steps in calibration order.

@@ -10,6 +10,7 @@
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/zone.h"
 #include "rig/optics.h"
@@ -308,8 +309,17 @@ MapDifference CompareDirectionMaps(const DirectionMap& a, const DirectionMap& b)
   return d;
 }
 
+void GeometryOptions::Validate() const {
+  OptionChecker check("GeometryOptions");
+  check.InRange("edge_rays", edge_rays, 8, 3600)
+      .AtLeast("max_correspondences", max_correspondences, 10)
+      .AtLeast("max_iterations", max_iterations, 1)
+      .ThrowIfInvalid();
+}
+
 GeometryResult FitGeometry(const Rig& design, const AnnulusEdges& edges,
                            const Correspondences& correspondences, const GeometryOptions& options) {
+  options.Validate();
   GeometryResult result;
   result.edges = edges;
   result.correspondences = correspondences;
@@ -500,6 +510,7 @@ GeometryResult FitGeometry(const Rig& design, const AnnulusEdges& edges,
 
 GeometryResult CalibrateGeometry(CalibrationRig& rig, const Rig& design,
                                  const RigCalibration& nominal, const GeometryOptions& options) {
+  options.Validate();  // before anything is captured
   rig.place_target(Target::kWhite);
   const double exposure = MeterWhite(rig, nominal);
   ShowPattern(rig, UniformPattern(nominal, 0));

@@ -40,6 +40,10 @@ struct GeometryOptions {
   int edge_rays = 90;               // rays from the annulus centre
   int max_correspondences = 1500;   // evenly subsampled
   int max_iterations = 50;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct AnnulusEdgePoint {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "calibration/figures.h"
 
 namespace zbrdf {
@@ -37,10 +38,12 @@ PairStats Pair(const Frame& a, const Frame& b, const std::vector<uint8_t>& selec
 
 }  // namespace
 
+void NoiseOptions::Validate() const {
+  OptionChecker("NoiseOptions").InRange("exposure_steps", exposure_steps, 3, 16).ThrowIfInvalid();
+}
+
 NoiseResult CalibrateNoise(CalibrationRig& rig, const RigCalibration& c, const NoiseOptions& options) {
-  if (options.exposure_steps < 3 || options.exposure_steps > 16) {
-    throw InputError("noise calibration needs 3 to 16 exposure steps");
-  }
+  options.Validate();
   rig.place_target(Target::kWhite);
   const double metered = MeterWhite(rig, c);
   const CameraInfo info = rig.camera->Info();

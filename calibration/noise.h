@@ -22,6 +22,10 @@ namespace zbrdf {
 
 struct NoiseOptions {
   int exposure_steps = 9;  // pairs from 1/64 of the metered exposure up by factors of 2
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct PhotonTransferPoint {

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 
 namespace zbrdf {
 
@@ -224,11 +225,6 @@ struct AravisCamera::Impl {
 };
 
 void AravisCamera::Impl::Open() {
-  if (options.ip.empty() && options.serial.empty()) {
-    throw InputError(
-        "camera: give its IP address (camera.ip) or its serial number "
-        "(camera.serial)");
-  }
   if (options.ip.empty()) {
     const std::string path =
         options.camera_directory.empty() ? DefaultCameraDirectoryPath() : options.camera_directory;
@@ -686,12 +682,39 @@ Frame AravisCamera::Impl::Grab(std::chrono::milliseconds timeout) {
 
 // ---------------------------------------------------------------------------------------------
 
+void AravisCameraOptions::Validate() const {
+  OptionChecker check("AravisCameraOptions");
+  check.Require(!ip.empty() || !serial.empty(), "ip",
+                "or serial must be given: the camera's IP address (camera.ip) or its serial "
+                "number (camera.serial)")
+      .AtLeast("exposure_min_us", exposure_min_us, 0)
+      .Require(exposure_max_us >= exposure_min_us, "exposure_max_us",
+               "must be >= exposure_min_us (got " + FormatOptionValue(exposure_max_us) + " < " +
+                   FormatOptionValue(exposure_min_us) + ")");
+  if (exposure_us) check.Positive("exposure_us", *exposure_us);
+  if (gain) {
+    check.Require(std::isfinite(*gain), "gain",
+                  "must be finite (got " + FormatOptionValue(*gain) + ")");
+  }
+  check.AtLeast("region_x", region_x, 0)
+      .AtLeast("region_y", region_y, 0)
+      .AtLeast("region_width", region_width, 0)
+      .AtLeast("region_height", region_height, 0)
+      .InRange("retries", retries, 0, 100)
+      .InRange("buffers", buffers, 1, 64)
+      .Require(packet_size == 0 || (packet_size >= 576 && packet_size <= 16384), "packet_size",
+               "must be 0 (the camera's value) or in [576, 16384] bytes (got " +
+                   std::to_string(packet_size) + ")")
+      .AtLeast("frame_retention_us", frame_retention_us, 0)
+      .AtLeast("packet_timeout_us", packet_timeout_us, 0)
+      .ThrowIfInvalid();
+}
+
 AravisCamera::AravisCamera(const AravisCameraOptions& options, Clock* clock)
     : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
   impl_->clock = clock != nullptr ? clock : &impl_->own_clock;
-  if (options.retries < 0) throw InputError("camera.retries must be >= 0");
-  if (options.buffers < 1) throw InputError("camera.buffers must be >= 1");
+  options.Validate();
   impl_->Open();
 }
 

@@ -80,6 +80,10 @@ struct AravisCameraOptions {
   // packets, and the gap between packets that counts as a loss. 0: Aravis's defaults.
   int frame_retention_us = 0;
   int packet_timeout_us = 0;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 // Counters since open; a session can log them and check-rig prints them.

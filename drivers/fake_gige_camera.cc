@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "drivers/pixel_format.h"
 
 namespace zbrdf {
@@ -94,8 +95,16 @@ struct FakeGigECamera::State {
   }
 };
 
+void FakeGigECameraOptions::Validate() const {
+  OptionChecker check("FakeGigECameraOptions");
+  check.Require(!serial.empty(), "serial", "must not be empty")
+      .InRangeAbove("trigger_rate_hz", trigger_rate_hz, 0, 1e6)
+      .ThrowIfInvalid();
+}
+
 FakeGigECamera::FakeGigECamera(const FakeGigECameraOptions& options)
     : state_(std::make_unique<State>()) {
+  options.Validate();
   state_->options = options;
   std::string xml_path;
   if (options.extra_pixel_formats) {

@@ -48,6 +48,10 @@ struct FakeGigECameraOptions {
   bool extra_pixel_formats = true;  // add the 12/16-bit entries listed above
   // How often the fake polls for a software trigger (Hz); latency is about 1 / rate.
   double trigger_rate_hz = 1000;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 class FakeGigECamera {

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "drivers/aravis_camera.h"
 
 namespace zbrdf {
@@ -72,9 +73,24 @@ bool RigCheckReport::AllPassed() const {
   return std::all_of(items.begin(), items.end(), [](const RigCheckItem& i) { return i.passed; });
 }
 
+void RigCheckOptions::Validate() const {
+  OptionChecker check("RigCheckOptions");
+  check.InRange("frames", frames, 1, 1000)
+      .Positive("exposure_us", exposure_us)
+      .Above("grab_timeout (ms)", static_cast<double>(grab_timeout.count()), 0)
+      .Positive("budget_s", budget_s)
+      .InRange("dark_max_fraction", dark_max_fraction, 0, 1)
+      .InRange("white_min_contrast", white_min_contrast, 0, 1)
+      .InRange("saturated_max_fraction", saturated_max_fraction, 0, 1)
+      .Above("latency_window (ms)", static_cast<double>(latency_window.count()), 0)
+      .AtLeast("steady_state_ms", steady_state_ms, 0)
+      .ThrowIfInvalid();
+}
+
 RigCheckReport RunRigCheck(Camera& camera, Projector& projector, X11Display* display,
                            Dlpc350* control, const RigSyncConfig& sync, Clock& clock,
                            const RigCheckOptions& options) {
+  options.Validate();
   RigCheckReport report;
   const auto start = std::chrono::steady_clock::now();
   auto elapsed_s = [&] {

@@ -54,6 +54,10 @@ struct RigCheckOptions {
   double saturated_max_fraction = 0.01;
   std::chrono::milliseconds latency_window{2000};  // how long to watch for the light to arrive
   double steady_state_ms = 500;                    // wait after Show() before measuring levels
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 // `display` and `control` may be null (no read-back / no USB control). The camera must use

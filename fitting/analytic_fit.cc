@@ -9,6 +9,7 @@
 #include <ceres/ceres.h>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "brdf/ashikhmin_shirley.h"
 #include "brdf/ggx.h"
@@ -251,12 +252,29 @@ nlohmann::json AnalyticFitResult::ToJson() const {
   return j;
 }
 
-AnalyticFitter::AnalyticFitter(const Zone& zone, int order, const AnalyticFitOptions& options)
-    : zone_(zone), order_(order), options_(options), quadrature_(zone, order, options.quadrature) {
-  if (!(options.f0_min >= 0 && options.f0_min < 1)) {
-    throw InputError("analytic fit: f0_min must lie in [0, 1) (got " + std::to_string(options.f0_min) + ")");
-  }
+void AnalyticFitOptions::Validate() const {
+  OptionChecker check("AnalyticFitOptions");
+  check.AtLeast("max_iterations", max_iterations, 1)
+      .InRangeBelow("f0_min", f0_min, 0, 1)
+      .Nested("quadrature", quadrature)
+      .ThrowIfInvalid();
 }
+
+namespace {
+
+// The options, validated before the fitter's members are built from them.
+const AnalyticFitOptions& Validated(const AnalyticFitOptions& options) {
+  options.Validate();
+  return options;
+}
+
+}  // namespace
+
+AnalyticFitter::AnalyticFitter(const Zone& zone, int order, const AnalyticFitOptions& options)
+    : zone_(zone),
+      order_(order),
+      options_(Validated(options)),
+      quadrature_(zone, order, options.quadrature) {}
 
 AnalyticFitResult AnalyticFitter::Fit(const ZonalTensor& data, AnalyticModel model) const {
   const auto t_start = WallClock::now();

@@ -51,6 +51,10 @@ struct AnalyticFitOptions {
   // A coarser half-vector quadrature than the D-BRDF's suffices for these smooth lobes
   // (3 deg cells; fit_quadrature_test.cc checks the projection against a brute-force rule).
   PairQuadratureOptions quadrature{0, 30, 4};
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct AnalyticFitResult {

@@ -11,6 +11,7 @@
 #include <ceres/ceres.h>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/spherical_harmonics.h"
 #include "basis/zonal_basis.h"
 #include "fitting/covariance.h"
@@ -282,22 +283,31 @@ nlohmann::json DBrdfFitResult::ToJson() const {
   return j;
 }
 
+void DBrdfFitOptions::Validate() const {
+  OptionChecker check("DBrdfFitOptions");
+  // p(h)'s table nodes fall on whole degrees: theta_samples - 1 divides 90.
+  const auto divides_90 = [](int samples) { return samples >= 3 && 90 % (samples - 1) == 0; };
+  check.Require(divides_90(theta_samples), "theta_samples",
+                "must be 1 + a divisor of 90 (e.g. 91, 46, 31; got " +
+                    std::to_string(theta_samples) + ")")
+      .Require(divides_90(anisotropic_theta_samples), "anisotropic_theta_samples",
+               "must be 1 + a divisor of 90 (e.g. 46, 31; got " +
+                   std::to_string(anisotropic_theta_samples) + ")")
+      .AtLeast("anisotropic_phi_samples", anisotropic_phi_samples, 2)
+      .AtLeast("max_iterations", max_iterations, 1)
+      .Require(f0_min >= 0 && f0_min <= f0_max && f0_max <= 1, "f0_min, f0_max",
+               "must satisfy 0 <= f0_min <= f0_max <= 1 (--f0-range; got " +
+                   FormatOptionValue(f0_min) + ", " + FormatOptionValue(f0_max) + ")")
+      .Require(smoothness >= 0 && std::isfinite(smoothness), "smoothness",
+               "must be >= 0 and finite (got " + FormatOptionValue(smoothness) + ")")
+      .Nested("quadrature", quadrature)
+      .ThrowIfInvalid();
+}
+
 DBrdfFitter::DBrdfFitter(const Zone& zone, int order, const DBrdfFitOptions& options)
     : zone_(zone), order_(order), options_(options) {
   const auto t0 = WallClock::now();
-  if (!(options.f0_min >= 0 && options.f0_min <= options.f0_max && options.f0_max <= 1)) {
-    throw InputError("D-BRDF fit: F0 bounds must satisfy 0 <= f0_min <= f0_max <= 1");
-  }
-  if (!(options.smoothness >= 0 && std::isfinite(options.smoothness))) {
-    throw InputError("D-BRDF fit: smoothness must be finite and >= 0 (got " +
-                     std::to_string(options.smoothness) + ")");
-  }
-  if (options.theta_samples < 3 || 90 % (options.theta_samples - 1) != 0 ||
-      options.anisotropic_theta_samples < 3 || 90 % (options.anisotropic_theta_samples - 1) != 0 ||
-      options.anisotropic_phi_samples < 2) {
-    throw InputError("D-BRDF fit: theta_samples - 1 must divide 90 (e.g. 91, 46, 31) and "
-                     "anisotropic_phi_samples must be >= 2");
-  }
+  options.Validate();
   PairQuadratureOptions q = options.quadrature;
   q.theta_h_cells = 90;
   quadrature_ = std::make_unique<PairQuadrature>(zone, order, q);

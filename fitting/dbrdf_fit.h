@@ -70,6 +70,10 @@ struct DBrdfFitOptions {
   // kd 0.1%, c F0 0.2%, p 0.2%; 3-100 give the same within 1%. 0 turns the prior off.
   double smoothness = 1.0;
   PairQuadratureOptions quadrature;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct DBrdfFitResult {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/quadrature.h"
 
@@ -45,12 +46,18 @@ std::vector<ThetaNode> SplitRule(const Zone& zone, int total) {
 
 }  // namespace
 
+void BrdfComparisonOptions::Validate() const {
+  OptionChecker check("BrdfComparisonOptions");
+  check.AtLeast("half_theta_per_piece", half_theta_per_piece, 2)
+      .AtLeast("half_phi", half_phi, 8)
+      .AtLeast("exitant_theta", exitant_theta, 2)
+      .AtLeast("exitant_phi", exitant_phi, 1)
+      .ThrowIfInvalid();
+}
+
 BrdfComparison CompareBrdfs(const CosineWeightedFn& model, const CosineWeightedFn& truth,
                             const Zone& zone, const BrdfComparisonOptions& options) {
-  if (options.half_theta_per_piece < 2 || options.half_phi < 8 || options.exitant_theta < 2 ||
-      options.exitant_phi < 1) {
-    throw InputError("BRDF comparison: quadrature rules too small");
-  }
+  options.Validate();
   // The half-vector rule (polar angle from the normal, any w_o).
   static constexpr double kPiecesDeg[] = {0, 0.25, 1, 3, 8, 20, 45, 90};
   const GaussLegendreRule gl = GaussLegendre(options.half_theta_per_piece);

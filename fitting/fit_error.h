@@ -42,6 +42,10 @@ CosineWeightedFn CosineWeightedOf(const Brdf& brdf);
 struct BrdfComparisonOptions {
   int half_theta_per_piece = 8, half_phi = 96;  // h rule: Gauss nodes per theta_h piece, phi_h
   int exitant_theta = 24, exitant_phi = 4;      // w_o rule
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct BrdfComparison {

@@ -6,6 +6,7 @@
 
 #include "basis/error.h"
 #include "basis/legendre.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/fresnel.h"
@@ -39,14 +40,20 @@ double DeltaAtThetaH(const PairGeometry& g, double theta_h) {
 
 }  // namespace
 
+void PairQuadratureOptions::Validate() const {
+  OptionChecker check("PairQuadratureOptions");
+  check.InRange("theta_nodes", theta_nodes, 0, 512)
+      .InRange("theta_h_cells", theta_h_cells, 1, 3600)
+      .InRange("gauss_nodes", gauss_nodes, 1, 64)
+      .ThrowIfInvalid();
+}
+
 PairQuadrature::PairQuadrature(const Zone& zone, int order, const PairQuadratureOptions& options)
     : zone_(zone), order_(order) {
   if (order < 0 || order > 30) {
     throw InputError("fit quadrature: order " + std::to_string(order) + " is out of range [0, 30]");
   }
-  if (options.theta_nodes < 0 || options.theta_h_cells < 1 || options.gauss_nodes < 1) {
-    throw InputError("fit quadrature: theta_nodes must be >= 0, theta_h_cells and gauss_nodes >= 1");
-  }
+  options.Validate();
   n_ = options.theta_nodes > 0 ? options.theta_nodes : 2 * order + 32;
   cells_ = options.theta_h_cells;
   rule_ = CosThetaPsiRule(zone, n_);

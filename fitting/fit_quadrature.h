@@ -56,6 +56,10 @@ struct PairQuadratureOptions {
   int theta_nodes = 0;       // psi-rule nodes per direction; 0: 2 * order + 32
   int theta_h_cells = 90;    // Delta is split where theta_h crosses multiples of 90 deg / this
   int gauss_nodes = 4;       // per Delta piece
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 class PairQuadrature {

@@ -12,6 +12,7 @@
 #include "acquisition/session_brdf.h"
 #include "acquisition/zonal.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_file.h"
 #include "pictures/brdf_compare.h"
@@ -215,7 +216,16 @@ std::string HtmlEscape(const std::string& text) {
   return out;
 }
 
+void ReportOptions::Validate() const {
+  OptionChecker check("ReportOptions");
+  check.InRange("preview_size", preview_size, 8, 8192)
+      .AtLeast("preview_spp", preview_spp, 1)
+      .AtLeast("metric_samples", static_cast<double>(metric_samples), 16)
+      .ThrowIfInvalid();
+}
+
 SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions& options) {
+  options.Validate();
   std::optional<SessionFolder> folder;
   try {
     folder = SessionFolder::Open(dir);

@@ -16,6 +16,10 @@ struct ReportOptions {
   int preview_size = 192;
   int preview_spp = 32;
   int64_t metric_samples = 1 << 16;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct SessionReportPage {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "brdf/sampling.h"
 
@@ -95,12 +96,21 @@ Rgb EnvironmentEstimate(const Brdf& brdf, const Environment& env, const Frame& f
 
 }  // namespace
 
-BallImage RenderBall(const Brdf& brdf, const Environment* env, const BallOptions& options) {
-  if (options.size < 8 || options.size > 8192) {
-    throw InputError("preview: --size must be 8 to 8192 pixels (got " +
-                     std::to_string(options.size) + ")");
+void BallOptions::Validate() const {
+  OptionChecker check("BallOptions");
+  check.InRange("size", size, 8, 8192).AtLeast("spp", spp, 1);
+  if (light_direction) {
+    const Vec3& d = *light_direction;
+    check.Require(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && Length(d) > 0,
+                  "light_direction", "must be a finite, non-zero vector");
   }
-  if (options.spp < 1) throw InputError("preview: --spp must be >= 1");
+  check.Require(light_irradiance >= 0 && std::isfinite(light_irradiance), "light_irradiance",
+                "must be >= 0 and finite (got " + FormatOptionValue(light_irradiance) + ")")
+      .ThrowIfInvalid();
+}
+
+BallImage RenderBall(const Brdf& brdf, const Environment* env, const BallOptions& options) {
+  options.Validate();
   const bool directional = options.light_direction.has_value();
   if (!directional && env == nullptr) {
     throw InputError("preview: no light: give a directional light or an environment");

@@ -36,6 +36,10 @@ struct BallOptions {
   double light_irradiance = M_PI;
   Rgb background{0.02};  // behind the ball in directional-light mode
   uint64_t seed = 1;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct BallImage {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/zone.h"
 
@@ -161,10 +162,14 @@ class Coverage {
 
 }  // namespace
 
+void ForwardModelOptions::Validate() const {
+  OptionChecker("ForwardModelOptions").AtLeast("row_stride", row_stride, 1).ThrowIfInvalid();
+}
+
 ForwardModel::ForwardModel(const OpticalSystem& optics, const RigMaps& maps, const Brdf& material,
                            const ForwardModelOptions& options)
     : optics_(optics), maps_(maps), options_(options) {
-  if (options.row_stride < 1) throw InputError("forward model row_stride must be >= 1");
+  options.Validate();
   const auto start = std::chrono::steady_clock::now();
   const Rig& rig = optics.rig();
   const ThinLens& camera = optics.camera();

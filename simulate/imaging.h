@@ -42,6 +42,10 @@ struct ForwardModelOptions {
   // convergence studies at many samples.
   int row_stride = 1;
   ProgressCallback progress;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 class ForwardModel {

@@ -17,6 +17,7 @@
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/material_spec.h"
@@ -435,22 +436,37 @@ void WriteBenchPlot(const nlohmann::json& rows, const std::string& path) {
   if (!cv::imwrite(path, image)) throw InputError("cannot write the bench plot " + path);
 }
 
+void BenchOptions::Validate() const {
+  OptionChecker check("BenchOptions");
+  check.Require(!out_dir.empty(), "out_dir", "must name the output folder (--out)")
+      .Require(preset == "fast" || preset == "full", "preset",
+               "must be fast or full (got '" + preset + "')")
+      .Require(!orders.empty(), "orders", "must not be empty (--orders)");
+  for (size_t i = 0; i < orders.size(); ++i) {
+    check.InRange("orders[" + std::to_string(i) + "]", orders[i], 1, 20);
+  }
+  for (size_t i = 0; i < exposures.size(); ++i) {
+    check.InRange("exposures[" + std::to_string(i) + "]", exposures[i], 1, 10);
+  }
+  check.Require(!exposures.empty() || adaptive, "exposures",
+                "must not be empty unless adaptive: there is no strategy to run (give "
+                "--exposures or keep adaptive)")
+      .Nested("adaptive_options", adaptive_options)
+      .Require(truth_samples >= 16 && (truth_samples & (truth_samples - 1)) == 0,
+               "truth_samples",
+               "must be a power of two >= 16 (--truth-samples; got " +
+                   std::to_string(truth_samples) + ")")
+      .InRange("ball_size", ball_size, 8, 8192)
+      .InRange("parallel_materials", parallel_materials, 1, 16)
+      .ThrowIfInvalid();
+}
+
 BenchSummary RunBench(const BenchOptions& options) {
-  if (options.out_dir.empty()) throw InputError("bench: no output folder (--out)");
-  if (options.orders.empty()) throw InputError("bench: no orders (--orders)");
-  for (int order : options.orders) {
-    if (order < 1 || order > 20) throw InputError("bench: orders must be in [1, 20]");
-  }
-  for (int e : options.exposures) {
-    if (e < 1 || e > 10) throw InputError("bench: bracket sizes must be in [1, 10]");
-  }
-  options.adaptive_options.Validate();
+  options.Validate();
   const std::vector<std::string> materials =
       options.materials.empty() ? DefaultBenchMaterials() : options.materials;
   for (const std::string& m : materials) MakeBrdf(m);  // validates every spec up front
   const std::vector<BenchStrategy> strategies = BenchStrategies(options);
-  if (strategies.empty())
-    throw InputError("bench: no strategies (give --exposures or keep adaptive)");
   const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
   fs::create_directories(options.out_dir);
   const int max_order = *std::max_element(options.orders.begin(), options.orders.end());

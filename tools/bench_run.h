@@ -64,6 +64,10 @@ struct BenchOptions {
   bool keep_frames = false;  // else each session's frames/ is deleted once processed
   ProgressCallback progress;
   const std::atomic<bool>* interrupt = nullptr;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 std::vector<BenchStrategy> BenchStrategies(const BenchOptions& options);

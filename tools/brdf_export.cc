@@ -6,6 +6,7 @@
 #include "acquisition/session_brdf.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "brdf/brdf_explorer.h"
 #include "brdf/dbrdf.h"
 #include "brdf/dbrdf_file.h"
@@ -44,7 +45,6 @@ std::string SpectralPath(const std::string& out) {
 }
 
 void RequireOutFolder(const std::string& out) {
-  if (out.empty()) throw InputError("--out is required: the file to write");
   const fs::path parent = fs::path(out).parent_path();
   if (!parent.empty() && !fs::is_directory(parent)) {
     throw InputError("--out " + out + ": the folder " + parent.string() +
@@ -134,8 +134,28 @@ std::string PbrtSceneSnippet(const std::string& bsdf_file, const std::string& wh
          "AttributeEnd\n";
 }
 
+void ExportOptions::Validate() const {
+  OptionChecker check("ExportOptions");
+  check.Require(!out.empty(), "out", "must name the file to write (--out)");
+  const bool rgb = rgl_variant != RglVariant::kSpectral;
+  const bool spectral = rgl_variant != RglVariant::kRgb;
+  for (const std::string& scene : scenes) {
+    check.Require(scene == "mitsuba" || scene == "pbrt", "scenes",
+                  "must be mitsuba, pbrt, both or none (--scene; got '" + scene + "')");
+    if (format != ExportFormat::kRgl) continue;
+    check.Require(scene != "mitsuba" || rgb, "scenes",
+                  "mitsuba needs the rgb variant (Mitsuba's RGB variants read it): use "
+                  "--rgl-variant rgb or both");
+    check.Require(scene != "pbrt" || spectral, "scenes",
+                  "pbrt needs the spectral variant (pbrt-v4 reads only it): use --rgl-variant "
+                  "spectral or both");
+  }
+  check.Nested("rgl", rgl).ThrowIfInvalid();
+}
+
 ExportResult ExportBrdf(const BrdfInput& input, const ExportOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  options.Validate();
   RequireOutFolder(options.out);
   const Brdf& brdf = *input.brdf;
   ExportResult result;
@@ -167,8 +187,7 @@ ExportResult ExportBrdf(const BrdfInput& input, const ExportOptions& options) {
       RglExportOptions rgl = options.rgl;
       rgl.clamp_invalid = options.clamp_invalid;
       if (rgl.description.empty()) rgl.description = what;
-      // Check the scenes, tabulate once, build both variants, then write: a failure writes
-      // nothing.
+      // Tabulate once, build both variants, then write: a failure writes nothing.
       const bool want_rgb = options.rgl_variant != ExportOptions::RglVariant::kSpectral;
       const bool want_spectral = options.rgl_variant != ExportOptions::RglVariant::kRgb;
       const std::string rgb_file = want_rgb ? options.out : "";
@@ -178,25 +197,14 @@ ExportResult ExportBrdf(const BrdfInput& input, const ExportOptions& options) {
       const fs::path base =
           fs::path(options.out).parent_path() / fs::path(options.out).stem().string();
       std::vector<std::pair<std::string, std::string>> scenes;  // path, text
+      // ExportOptions::Validate() checked the scene names against the variants.
       for (const std::string& scene : options.scenes) {
         if (scene == "mitsuba") {
-          if (!want_rgb) {
-            throw InputError(
-                "--scene mitsuba needs the rgb variant (Mitsuba's RGB variants read it): use "
-                "--rgl-variant rgb or both");
-          }
           scenes.emplace_back(base.string() + ".mitsuba.xml",
                               MitsubaSceneSnippet(fs::path(rgb_file).filename().string(), what));
-        } else if (scene == "pbrt") {
-          if (!want_spectral) {
-            throw InputError(
-                "--scene pbrt needs the spectral variant (pbrt-v4 reads only it): use "
-                "--rgl-variant spectral or both");
-          }
+        } else {
           scenes.emplace_back(base.string() + ".pbrt",
                               PbrtSceneSnippet(fs::path(spectral_file).filename().string(), what));
-        } else {
-          throw InputError("--scene must be mitsuba, pbrt, both or none (got '" + scene + "')");
         }
       }
       RglExportReport r;

@@ -37,6 +37,10 @@ struct ExportOptions {
   RglExportOptions rgl;
   // Scene snippets to write next to an rgl export: "mitsuba", "pbrt".
   std::vector<std::string> scenes = {"mitsuba", "pbrt"};
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct ExportResult {

@@ -14,6 +14,7 @@
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "brdf/nbrdf.h"
 #include "rig/rig.h"
@@ -94,14 +95,22 @@ std::string MaterialFolderName(const std::string& spec) {
   return name.empty() ? "material" : name;
 }
 
-FitAllSummary RunFitAll(const FitAllOptions& options) {
-  if (options.materials.empty()) throw InputError("fit-all: no materials given (--materials)");
-  if (options.out_dir.empty()) throw InputError("fit-all: no output folder (--out)");
-  for (const std::string& m : options.models) {
-    if (m != "dbrdf" && m != "ggx" && m != "ward" && m != "as") {
-      throw InputError("fit-all: unknown model '" + m + "' in --models; use dbrdf, ggx, ward, as");
-    }
+void FitAllOptions::Validate() const {
+  OptionChecker check("FitAllOptions");
+  check.Require(!materials.empty(), "materials", "must not be empty (--materials)")
+      .Require(!out_dir.empty(), "out_dir", "must name the output folder (--out)")
+      .Require(preset == "fast" || preset == "full", "preset",
+               "must be fast or full (got '" + preset + "')")
+      .InRange("order", order, 0, 30);
+  for (const std::string& m : models) {
+    check.Require(m == "dbrdf" || m == "ggx" || m == "ward" || m == "as", "models",
+                  "must each be dbrdf, ggx, ward or as (got '" + m + "' in --models)");
   }
+  check.InRange("parallel_materials", parallel_materials, 1, 16).ThrowIfInvalid();
+}
+
+FitAllSummary RunFitAll(const FitAllOptions& options) {
+  options.Validate();
   const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
   std::filesystem::create_directories(options.out_dir);
   FitContext context;

@@ -40,6 +40,10 @@ struct FitAllOptions {
   bool refit = false;           // fit again even where fit-<model>.json exists
   ProgressCallback progress;
   const std::atomic<bool>* interrupt = nullptr;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct FitAllSummary {

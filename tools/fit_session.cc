@@ -9,6 +9,7 @@
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "brdf/dbrdf_file.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
@@ -67,12 +68,20 @@ const AnalyticFitter& FitContext::Analytic(const Zone& zone, int order,
   return *slot;
 }
 
+void FitSessionOptions::Validate() const {
+  OptionChecker check("FitSessionOptions");
+  check.Require(model == "dbrdf" || model == "ggx" || model == "ward" || model == "as", "model",
+                "must be dbrdf, ggx, ward or as (got '" + model + "')")
+      .Nested("dbrdf", dbrdf)
+      .Nested("analytic", analytic)
+      .Nested("comparison", comparison)
+      .ThrowIfInvalid();
+}
+
 FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOptions& options,
                              FitContext* context) {
+  options.Validate();
   const std::string& model_name = options.model;
-  if (model_name != "dbrdf" && model_name != "ggx" && model_name != "ward" && model_name != "as") {
-    throw InputError("unknown model '" + model_name + "'; use dbrdf, ggx, ward or as");
-  }
   const std::string zonal_path = SessionPath(session_dir, kZonalFile);
   if (!std::filesystem::exists(zonal_path)) {
     throw InputError(session_dir + " has no zonal.exr; capture or simulate the session first "

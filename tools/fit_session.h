@@ -56,6 +56,10 @@ struct FitSessionOptions {
   DBrdfFitOptions dbrdf;
   AnalyticFitOptions analytic;
   BrdfComparisonOptions comparison;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct FitSessionOutcome {

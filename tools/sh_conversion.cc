@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/zonal_basis.h"
 
 namespace zbrdf {
@@ -100,7 +101,21 @@ AutomaticTau ChooseTau(const ZonalTensor& data, const ZonalBasis& zb, const Targ
 
 }  // namespace
 
+void ShConversionOptions::Validate() const {
+  OptionChecker check("ShConversionOptions");
+  check.Require(order <= 30, "order",
+                "must be in [0, 30], or < 0 for the data's order (--sh-order; got " +
+                    std::to_string(order) + ")")
+      .Require(tau < 1, "tau",
+               "must be in [0, 1), or < 0 for the automatic threshold (got " +
+                   FormatOptionValue(tau) + ")")
+      .InRange("exitant_theta", exitant_theta, 1, 3600)
+      .InRange("exitant_phi", exitant_phi, 1, 3600)
+      .ThrowIfInvalid();
+}
+
 ShConversionResult ConvertToSh(const ZonalTensor& data, const ShConversionOptions& options) {
+  options.Validate();
   if (const std::string problems = data.Problems(); !problems.empty()) {
     if (problems.find("not finite") != std::string::npos || problems.find("NaN") != std::string::npos) {
       throw NumericalError("SH conversion: " + problems + "; the session's zonal data are damaged");
@@ -108,8 +123,6 @@ ShConversionResult ConvertToSh(const ZonalTensor& data, const ShConversionOption
     throw InputError("SH conversion: " + problems);
   }
   const int order = options.order < 0 ? data.order : options.order;
-  if (order > 30) throw InputError("SH conversion: --sh-order must be in [0, 30]");
-  if (options.tau >= 1) throw InputError("SH conversion: tau must be in [0, 1)");
   const Zone zone = data.zone();
   const ZonalBasis zb(zone, data.order);
   const TargetBasis target(options.target, order);

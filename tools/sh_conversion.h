@@ -38,6 +38,10 @@ struct ShConversionOptions {
   int order = -1;       // target order; < 0: the data's order
   double tau = -1;      // < 0: automatic (above)
   int exitant_theta = 90, exitant_phi = 90;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct ShConversionResult {

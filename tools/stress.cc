@@ -25,6 +25,7 @@
 #include "basis/conversion.h"
 #include "basis/data_path.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/spherical_harmonics.h"
 #include "basis/zone.h"
 #include "brdf/sh_file.h"
@@ -667,7 +668,14 @@ const StressCase& FindStressCase(const std::string& name) {
                    " (zbrdf stress --list)");
 }
 
+void StressOptions::Validate() const {
+  OptionChecker("StressOptions")
+      .InRange("samples_per_pixel", samples_per_pixel, 0, 65536)
+      .ThrowIfInvalid();
+}
+
 StressResult RunStressCase(const StressCase& c, const StressOptions& options) {
+  options.Validate();
   StressResult r;
   r.name = c.name;
   r.group = c.group;

@@ -54,6 +54,10 @@ struct StressOptions {
   // cases stress the range of the numbers, not the frames' Monte Carlo noise, and the default
   // 64 makes a capture take seconds.
   int samples_per_pixel = 64;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct StressCase {

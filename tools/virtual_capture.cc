@@ -9,6 +9,7 @@
 
 #include "acquisition/session.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "brdf/material_spec.h"
 #include "calibration/calibration_data.h"
 #include "drivers/aravis_camera.h"
@@ -122,8 +123,16 @@ class GigEFakeLink {
 
 }  // namespace
 
+void GigEFakeOptions::Validate() const {
+  OptionChecker check("GigEFakeOptions");
+  check.InRange("lost_packet_ratio", lost_packet_ratio, 0, 1)
+      .AtLeast("stop_after_frames", stop_after_frames, 0)
+      .ThrowIfInvalid();
+}
+
 VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
   const auto start = std::chrono::steady_clock::now();
+  args.gige.Validate();
   if (args.job.resume) {
     // The session decides what is being captured.
     const nlohmann::json s = SessionFolder::Open(args.job.out_dir).session();

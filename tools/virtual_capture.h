@@ -26,6 +26,10 @@ struct GigEFakeOptions {
   // > 0: the fake stops answering (as a camera losing power) once this many frames reached the
   // session in this run; the capture then fails with the driver's DeviceError (tests of resume).
   int stop_after_frames = 0;
+
+  // Throws InvalidOptions (an InputError) naming every field out of range and the values it
+  // accepts (basis/option_checker.h).
+  void Validate() const;
 };
 
 struct VirtualCaptureArgs {

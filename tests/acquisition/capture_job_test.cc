@@ -6,11 +6,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "acquisition/ground_truth.h"
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "brdf/material_spec.h"
 #include "simulate/virtual_rig.h"
 #include "tests/acquisition/acquisition_test_util.h"
@@ -47,6 +50,30 @@ std::map<int, std::string> Checksums(const std::string& dir) {
 
 // Acceptance: Lambertian 18%, order 4, fast preset, noise off: what is left is integration
 // and pattern quantization (measured 0.11%). Then the errors of resuming what cannot be.
+TEST(CaptureJob, OptionsNameTheFieldsOfNestedOptions) {
+  CaptureJobOptions options;
+  options.out_dir = "unused";
+  options.order = 40;
+  options.processing.hdr.iterations = 0;
+  options.adaptive.enabled = true;
+  options.adaptive.max_ratio = 0.5;
+  try {
+    options.Validate();
+    FAIL() << "expected InvalidOptions";
+  } catch (const InvalidOptions& e) {
+    const std::vector<std::string> expected = {
+        "order must be in [0, 30] (got 40)",
+        "processing.hdr.iterations must be in [1, 100] (got 0)",
+        "adaptive.max_ratio must be in [1, 256] (got 0.5)"};
+    EXPECT_EQ(e.problems(), expected);
+  }
+  // Adaptive options count only when adaptive capture is on.
+  options = CaptureJobOptions();
+  options.out_dir = "unused";
+  options.adaptive.max_ratio = 0.5;
+  EXPECT_NO_THROW(options.Validate());
+}
+
 TEST(CaptureJob, NoiseFreeLambertianWithinTwoTenthsOfAPercent) {
   SimulatedRig setup("lambertian:0.18", /*noise=*/false);
   const std::string dir = TempDir("noise-free");

@@ -2,10 +2,13 @@
 
 #include <cmath>
 #include <set>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/spherical_harmonics.h"
 
 namespace zbrdf {
@@ -112,6 +115,23 @@ TEST(Plan, AbsurdOptionsAreRejected) {
   o = Options(4);
   o.repeats = 0;
   EXPECT_THROW(MakePlan(o), InputError);
+}
+
+TEST(Plan, OptionsReportEveryBadFieldAtOnce) {
+  PlanOptions o = Options(31);
+  o.exposures = 0;
+  o.repeats = 101;
+  try {
+    o.Validate();
+    FAIL() << "expected InvalidOptions";
+  } catch (const InvalidOptions& e) {
+    const std::vector<std::string> expected = {"order must be in [0, 30] (got 31)",
+                                               "exposures must be in [1, 10] (got 0)",
+                                               "repeats must be in [1, 100] (got 101)"};
+    EXPECT_EQ(e.problems(), expected);
+    EXPECT_EQ(std::string(e.what()).rfind("PlanOptions: order must be", 0), 0u) << e.what();
+  }
+  EXPECT_NO_THROW(Options(4).Validate());
 }
 
 TEST(Plan, PredictedTimeFollowsTheTimingModel) {

@@ -34,6 +34,20 @@ TEST(Commands, ConvertOfADeltaMaterialSessionPrintsUndefinedErrorsAsNa) {
       << testing::ReadFile(dir.File("out.txt"));
 }
 
+// Options are validated where they enter the library, and the CLI prints what Validate() says:
+// the struct, the field, the accepted range and the value.
+TEST(Commands, BadOptionsAreReportedByFieldAndRange) {
+  TempDir dir("commands-bad-options");
+  EXPECT_EQ(testing::RunZbrdf("fit " + dir.path() + " --f0-range 0.6,0.2", dir.File("out.txt"),
+                              dir.File("err.txt")),
+            2);
+  const std::string err = testing::ReadFile(dir.File("err.txt"));
+  EXPECT_NE(err.find("zbrdf fit: error: FitSessionOptions: dbrdf.f0_min, f0_max must satisfy 0 "
+                     "<= f0_min <= f0_max <= 1 (--f0-range; got 0.6, 0.2)"),
+            std::string::npos)
+      << err;
+}
+
 TEST(Commands, ExportPreviewPlotCompareReportOnASession) {
   TempDir dir("commands");
   const std::string s = dir.File("session");

@@ -95,10 +95,7 @@ int RunBenchCommand(const std::vector<std::string>& args) {
   options.fit = !cl.Has("no-fit");
   options.out_dir = cl.Get("out");
   options.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
-  options.truth_samples = cl.GetInt("truth-samples", 16, 1 << 20);
-  if ((options.truth_samples & (options.truth_samples - 1)) != 0) {
-    throw InputError("--truth-samples must be a power of two");
-  }
+  options.truth_samples = cl.GetInt("truth-samples", 16, 1 << 20);  // BenchOptions::Validate
   options.parallel_materials =
       cl.Has("jobs") ? cl.GetInt("jobs", 1, 16) : std::min(2, WorkerThreads());
   options.keep_frames = cl.Has("keep-frames");
