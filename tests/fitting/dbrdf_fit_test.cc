@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "basis/error.h"
-
 #include "brdf/ggx.h"
 #include "brdf/lambertian.h"
+#include "fitting/fit_common.h"
 #include "fitting/fit_error.h"
 #include "tests/brdf/brdf_checks.h"
 #include "tests/fitting/fit_test_util.h"
@@ -57,6 +57,168 @@ TEST(DBrdfFitTest, RecoversExactDBrdfData) {
   EXPECT_LT(r.statistics.relative_residual, 1e-8);
   // Exact data leave no misfit beyond their noise: the smoothness prior is not applied.
   EXPECT_EQ(r.smoothness_weight, 0.0);
+}
+
+// The relative residual of a fitted model against exact data, from the model's own projection
+// (DBrdfTensor on the fitter's quadrature), not from the fit's statistics.
+double RelativeResidual(const DBrdfParams& model, const ZonalTensor& data) {
+  const DBrdfProjection projection =
+      ProjectDBrdfTable(Fitter().quadrature(), model.p_h.theta_samples, model.p_h.phi_samples);
+  const auto tensor = DBrdfTensor(projection, model, kOrder);
+  double diff = 0, norm = 0;
+  for (int ch = 0; ch < 3; ++ch) {
+    diff += (tensor[ch] - data.z[ch]).squaredNorm();
+    norm += data.z[ch].squaredNorm();
+  }
+  return std::sqrt(diff / norm);
+}
+
+class GgxShapedTableTest : public ::testing::TestWithParam<double> {};
+
+TEST_P(GgxShapedTableTest, NarrowAndWideLobesAreRecoveredFromTheirExactProjection) {
+  // A GGX-shaped p (alpha 0.02: a 1-2 deg peak, the width of the table's steps; 0.05; 0.2) with a
+  // low F0 and a coloured diffuse term. The data lie in the fit's span (p between knots follows
+  // the GGX lobe the initial scan finds), so the fit must recover them to its solver's tolerance:
+  // measured 1e-11 relative residual, parameters to 1e-9.
+  const double alpha = GetParam();
+  const DBrdfParams truth =
+      testing::GgxShapedDBrdf(alpha, alpha, 91, 1, Rgb(0.6, 0.7, 0.8), 0.05, Rgb(0.05, 0.1, 0.2));
+  const ZonalTensor data = DataOf(truth, 0.0);
+  const DBrdfFitResult r = Fitter().Fit(data);
+  ASSERT_TRUE(r.fitted);
+  EXPECT_LT(RelativeResidual(r.params, data), 1e-8);
+  EXPECT_NEAR(r.params.f0, truth.f0, 1e-6);
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_NEAR(r.params.c[ch], truth.c[ch], 1e-6 * truth.c[ch]) << ch;
+    EXPECT_NEAR(r.params.kd[ch], truth.kd[ch], 1e-6 * truth.kd[ch]) << ch;
+  }
+  EXPECT_NEAR(r.params.p_h.p[0], truth.p_h.p[0], 1e-6 * truth.p_h.p[0]);
+}
+
+INSTANTIATE_TEST_SUITE_P(Alpha, GgxShapedTableTest, ::testing::Values(0.02, 0.05, 0.2),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return "alpha" +
+                                  std::to_string(static_cast<int>(std::lround(100 * info.param)));
+                         });
+
+TEST(DBrdfFitTest, ATableThatIsNotGgxShapedIsFittedWithinTheModelErrorFloor) {
+  // p = (D_0.02 + D_0.2) / 2: a sharp peak on a broad base, which no single GGX lobe (the shape
+  // p follows between knots) matches. The fit's best knot values leave 2.1e-4 relative residual
+  // (chi2/dof 0.18 against the model-error floor, fit_common.h) with c F0 and kd within 0.2%.
+  // The Ceres solve this replaced stopped at 1.4e-3 (chi2/dof 7.8) with c 9.5% high and kd 7%
+  // low: Levenberg-Marquardt with bounds on 15 knots stalled ("parameter tolerance reached").
+  // Limits: 5e-4 for the residual (the floor's chi2/dof = 1 is about 3e-5 sqrt(dof) = 9e-4), 1%
+  // for the colours.
+  DBrdfParams truth =
+      testing::GgxShapedDBrdf(0.02, 0.02, 91, 1, Rgb(0.6, 0.7, 0.8), 0.05, Rgb(0.05, 0.1, 0.2));
+  const DBrdfParams wide =
+      testing::GgxShapedDBrdf(0.2, 0.2, 91, 1, Rgb(0.6, 0.7, 0.8), 0.05, Rgb(0.05, 0.1, 0.2));
+  for (size_t j = 0; j < truth.p_h.p.size(); ++j)
+    truth.p_h.p[j] = 0.5 * (truth.p_h.p[j] + wide.p_h.p[j]);
+  truth.p_h.Normalize();
+  const ZonalTensor data = DataOf(truth, 0.0);
+  const DBrdfFitResult r = Fitter().Fit(data);
+  ASSERT_TRUE(r.fitted);
+  EXPECT_LT(RelativeResidual(r.params, data), 5e-4);
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_NEAR(r.params.c[ch] * r.params.f0, truth.c[ch] * truth.f0, 0.01 * truth.c[ch] * truth.f0)
+        << ch;
+    EXPECT_NEAR(r.params.kd[ch], truth.kd[ch], 0.01 * truth.kd[ch]) << ch;
+  }
+}
+
+TEST(DBrdfFitTest, FitOfAModelItCannotRepresentIsAMinimumOfItsChi2) {
+  // A GGX material's exact projection: the D-BRDF cannot represent GGX's 1 / (4 cos cos)
+  // geometry (relative residual about 10%), so this checks that the fit is as good as the model
+  // allows, not that it is exact: without the smoothness prior, no step in c, kd, F0 (inside its
+  // bounds) or in p's linear trend (p times 1 + eps theta / theta_last, in the span of the knots)
+  // lowers the chi2, computed here from the model's projection by finite differences.
+  const GgxBrdf ggx(0.1, 0.1, Rgb(0.04), Rgb(0.1, 0.2, 0.3));
+  const auto iso = Fitter().quadrature().ProjectIsotropicBrdf(ggx);
+  std::array<Eigen::MatrixXd, 3> tensor;
+  for (int ch = 0; ch < 3; ++ch) tensor[ch] = IsotropicLayout(kOrder).Expand(iso[ch]);
+  const ZonalTensor data = testing::SyntheticData(tensor, kZone, kOrder, 0.0);
+  DBrdfFitOptions options;
+  options.smoothness = 0;
+  options.covariance = false;
+  const DBrdfFitResult r = DBrdfFitter(kZone, kOrder, options).Fit(data);
+  ASSERT_TRUE(r.fitted);
+  // The fit's chi2: the isotropic coefficients (+m and -m pooled) weighted by the model-error
+  // floor, which for noise-free data is the same for every coefficient of a channel.
+  const DBrdfProjection projection = ProjectDBrdfTable(Fitter().quadrature(), 91, 1);
+  const IsotropicData y = IsotropicCoefficients(data);
+  auto chi2 = [&](const DBrdfParams& params) {
+    ZonalTensor model = data;
+    model.z = DBrdfTensor(projection, params, kOrder);
+    const IsotropicData m = IsotropicCoefficients(model);
+    double sum = 0;
+    for (int ch = 0; ch < 3; ++ch) sum += (m.z[ch] - y.z[ch]).squaredNorm() / y.z[ch].squaredNorm();
+    return sum;
+  };
+  const double best = chi2(r.params);
+  // Steps of 1e-3 (relative, or absolute for values at 0): a stationary point's chi2 changes by
+  // O(step^2) = 1e-6 of its value; a missed descent direction lowers it by O(step).
+  constexpr double kStep = 1e-3, kTolerance = 1e-9;
+  auto expect_no_descent = [&](DBrdfParams trial, const std::string& what) {
+    trial.p_h.Normalize();
+    EXPECT_GE(chi2(trial), best * (1 - kTolerance)) << what;
+  };
+  for (int ch = 0; ch < 3; ++ch) {
+    for (double sign : {-1.0, 1.0}) {
+      DBrdfParams c = r.params, kd = r.params;
+      c.c[ch] = std::max(0.0, c.c[ch] * (1 + sign * kStep));
+      kd.kd[ch] = kd.kd[ch] > 0 ? kd.kd[ch] * (1 + sign * kStep) : (sign > 0 ? kStep * 0.1 : 0.0);
+      expect_no_descent(c, "c channel " + std::to_string(ch));
+      expect_no_descent(kd, "kd channel " + std::to_string(ch));
+    }
+  }
+  for (double sign : {-1.0, 1.0}) {
+    DBrdfParams f0 = r.params;
+    f0.f0 = std::clamp(f0.f0 + sign * kStep * 0.1, options.f0_min, options.f0_max);
+    expect_no_descent(f0, "F0");
+    DBrdfParams trend = r.params;
+    const int last = static_cast<int>(std::ceil(kZone.theta_max_rad() / (M_PI / 180) - 1e-9));
+    for (int j = 0; j < 91; ++j) trend.p_h.p[j] *= 1 + sign * kStep * std::min(j, last) / last;
+    // Normalize() divides p by its integral; c takes the factor so that c p is unchanged there.
+    HalfVectorTable scaled = trend.p_h;
+    scaled.Normalize();
+    trend.c = trend.c * (trend.p_h.p[0] / scaled.p[0]);
+    expect_no_descent(trend, "p's linear trend");
+  }
+}
+
+TEST(DBrdfFitTest, NarrowLobesAreFittedWithoutTheQuadraturesError) {
+  // Order 4 on the full preset's zone (9.7-56.5 deg), as the demo: the data are the projection of
+  // a GGX-shaped D-BRDF (alpha 0.05, a 3 deg lobe) by a 200-node reference rule, i.e. what an
+  // exact capture measures, not the fitter's own quadrature. With the quadrature's default 40
+  // nodes the fitter's projection of the lobe was off by 0.1-13% per table node (13% at theta_h =
+  // 0), which the fit absorbed into its parameters: kd 8% and c F0 3.9% off (alpha 0.03: 44% and
+  // 19%). With two nodes per degree of the zone (94), measured kd 0.05%, c F0 0.09%, relative
+  // residual 3.5e-5. Limits 1% and 2e-4: the 94-node rule's remaining error (5e-4 on the
+  // theta_h = 0 node, 1e-4 elsewhere) with margin.
+  const Zone zone = Zone::FromDegrees(9.7, 56.5);
+  const int order = 4;
+  const DBrdfParams truth =
+      testing::GgxShapedDBrdf(0.05, 0.05, 91, 1, Rgb(0.6, 0.7, 0.8), 0.5, Rgb(0.1, 0.2, 0.3));
+  PairQuadratureOptions reference_options;
+  reference_options.theta_nodes = 200;
+  const PairQuadrature reference(zone, order, reference_options);
+  const auto tensor = DBrdfTensor(ProjectDBrdfTable(reference, 91, 1), truth, order);
+  const ZonalTensor data = testing::SyntheticData(tensor, zone, order, 0.0);
+  const DBrdfFitResult r = FitDBrdf(data);
+  ASSERT_TRUE(r.fitted);
+  const auto fitted = DBrdfTensor(ProjectDBrdfTable(reference, 91, 1), r.params, order);
+  double diff = 0, norm = 0;
+  for (int ch = 0; ch < 3; ++ch) {
+    diff += (fitted[ch] - tensor[ch]).squaredNorm();
+    norm += tensor[ch].squaredNorm();
+  }
+  EXPECT_LT(std::sqrt(diff / norm), 2e-4);
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_NEAR(r.params.kd[ch], truth.kd[ch], 0.01 * truth.kd[ch]) << ch;
+    EXPECT_NEAR(r.params.c[ch] * r.params.f0, truth.c[ch] * truth.f0, 0.01 * truth.c[ch] * truth.f0)
+        << ch;
+  }
 }
 
 TEST(DBrdfFitTest, SmoothnessPriorActsOnlyOnMisfitBeyondTheNoiseAndCostsLittle) {
