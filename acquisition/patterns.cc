@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/hash.h"
 #include "basis/parallel.h"
@@ -216,23 +217,18 @@ void PatternSet::Compute(const CapturePlan& plan, const RigCalibration& c,
       if (bit_depth_ <= 8) image.at<uint8_t>(i / width_, i % width_) = static_cast<uint8_t>(levels[lobe][i]);
       else image.at<uint16_t>(i / width_, i % width_) = levels[lobe][i];
     }
-    if (!cv::imwrite(folder_ + "/" + file, image, {cv::IMWRITE_PNG_COMPRESSION, 3})) {
-      throw InputError("cannot write pattern " + folder_ + "/" + file);
+    std::vector<uchar> png;
+    if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 3})) {
+      throw InputError("cannot encode pattern " + folder_ + "/" + file);
     }
+    WriteFileAtomically(folder_ + "/" + file, std::string(png.begin(), png.end()));
     index["lobes"].push_back({{"name", info.name},
                               {"radiance_per_unit_z", info.radiance_per_unit_z},
                               {"quantization_error", info.quantization_error},
                               {"file", info.file}});
     lobes_.push_back(info);
   }
-  const std::string tmp = folder_ + "/index.json.tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    out << index.dump(1) << "\n";
-    if (!out) throw InputError("cannot write " + tmp);
-  }
-  std::filesystem::rename(tmp, folder_ + "/index.json", ec);
-  if (ec) throw InputError("cannot write " + folder_ + "/index.json: " + ec.message());
+  WriteFileAtomically(folder_ + "/index.json", index.dump(1) + "\n");
   compute_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

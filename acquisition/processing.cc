@@ -8,9 +8,11 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <ImfThreading.h>
 #include <half.h>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
@@ -42,13 +44,15 @@ void WriteRgbHalfExr(const std::string& path, const cv::Mat& rgb) {
     fb.insert(names[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(channels[c].data()),
                                    sizeof(half), sizeof(half) * w));
   }
+  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
   try {
-    Imf::OutputFile file(path.c_str(), header, Imf::globalThreadCount());
+    Imf::OutputFile file(stream, header, Imf::globalThreadCount());
     file.setFrameBuffer(fb);
     file.writePixels(h);
   } catch (const std::exception& e) {
-    throw InputError("cannot write HDR image " + path + ": " + e.what());
+    throw InputError("cannot encode HDR image " + path + ": " + e.what());
   }
+  WriteFileAtomically(path, stream.str());
 }
 
 std::string SafeName(const std::string& lobe) {

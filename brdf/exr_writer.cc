@@ -8,10 +8,12 @@
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
+#include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
 
 #include <deque>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 
 namespace zbrdf {
@@ -88,9 +90,10 @@ void TwoPartExrWriter::AddTensorChannel(const std::string& name, std::vector<flo
 
 void TwoPartExrWriter::Write(const std::string& path, const std::string& what) const {
   const Impl& m = *impl_;
+  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
   try {
     const Imf::Header headers[2] = {m.image_header, m.tensor_header};
-    Imf::MultiPartOutputFile file(path.c_str(), headers, 2);
+    Imf::MultiPartOutputFile file(stream, headers, 2);
     Imf::OutputPart image(file, 0);
     image.setFrameBuffer(m.image_fb);
     image.writePixels(m.height);
@@ -100,6 +103,7 @@ void TwoPartExrWriter::Write(const std::string& path, const std::string& what) c
   } catch (const std::exception& e) {
     throw InputError("cannot write " + what + ": " + e.what());
   }
+  WriteFileAtomically(path, stream.str());
 }
 
 }  // namespace zbrdf

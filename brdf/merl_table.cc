@@ -4,8 +4,10 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 
 namespace zbrdf {
@@ -73,8 +75,8 @@ MerlBin MerlBinOf(const Vec3& w_i, const Vec3& w_o) {
 
 MerlTable ReadMerlBinary(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw InputError("MERL file " + path + ": cannot open it; check the path and permissions");
+  if (!file || !std::filesystem::is_regular_file(path)) {
+    throw InputError("MERL file " + path + ": not a readable file (a folder?); check the path");
   }
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)),
                                    std::istreambuf_iterator<char>());
@@ -137,14 +139,7 @@ void WriteMerlBinary(const std::string& path, const MerlTable& table) {
                                  data + (channel * MerlTable::kBinCount + k) * sizeof(double));
     }
   }
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file.write(reinterpret_cast<const char*>(bytes.data()),
-             static_cast<std::streamsize>(bytes.size()));
-  if (!file) {
-    throw InputError("WriteMerlBinary " + path +
-                     ": cannot write the file; check the folder "
-                     "exists and is writable, and the free space");
-  }
+  WriteFileAtomically(path, std::string(bytes.begin(), bytes.end()));
 }
 
 MerlBrdf::MerlBrdf(MerlTable table, std::string spec)

@@ -5,7 +5,9 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 
 namespace zbrdf {
@@ -26,13 +28,15 @@ void WriteFloatImage(const std::string& path, const FloatImage& image) {
     fb.insert(name, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(values.data())),
                                sizeof(float), sizeof(float) * image.width));
   }
+  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
   try {
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(stream, header);
     file.setFrameBuffer(fb);
     file.writePixels(image.height);
   } catch (const std::exception& e) {
-    throw InputError("cannot write " + path + ": " + e.what());
+    throw InputError("cannot encode " + path + ": " + e.what());
   }
+  WriteFileAtomically(path, stream.str());
 }
 
 FloatImage ReadFloatImage(const std::string& path, const std::vector<std::string>& required) {

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
 
@@ -806,9 +807,7 @@ void WriteCameraDirectory(const std::string& path, const std::vector<CameraDirec
   out << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  std::ofstream file(path);
-  file << out.c_str() << "\n";
-  if (!file) throw InputError("cannot write the camera directory " + path);
+  WriteFileAtomically(path, std::string(out.c_str()) + "\n");
 }
 
 std::vector<DiscoveredCamera> DiscoverCamerasByBroadcast() {

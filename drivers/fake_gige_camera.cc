@@ -8,6 +8,7 @@
 #include <fstream>
 #include <mutex>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
 #include "drivers/pixel_format.h"
@@ -113,7 +114,7 @@ FakeGigECamera::FakeGigECamera(const FakeGigECameraOptions& options)
         (std::filesystem::temp_directory_path() / ("zbrdf-fake-camera-" + std::to_string(getpid()) +
                                                    "-" + std::to_string(counter++) + ".xml"))
             .string();
-    std::ofstream(xml_path) << ExtendedGenicamXml(options.serial);
+    WriteFileAtomically(xml_path, ExtendedGenicamXml(options.serial));
   }
   state_->gv = arv_gv_fake_camera_new_full(kAddress, options.serial.c_str(),
                                            xml_path.empty() ? nullptr : xml_path.c_str());

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
 
@@ -92,13 +94,15 @@ FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigureP
     cv::putText(image, text, cv::Point(static_cast<int>(p) * size + 6, size + 34),
                 cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(255, 0, 255), 1, cv::LINE_AA);
   }
+  std::vector<uchar> bytes;
   bool ok = false;
   try {
-    ok = cv::imwrite(path, image);
+    ok = cv::imencode(std::filesystem::path(path).extension().string(), image, bytes);
   } catch (const cv::Exception& e) {
     throw InputError("cannot write figure " + path + ": " + e.what());
   }
-  if (!ok) throw InputError("cannot write figure " + path + " (is it a .png path in a writable folder?)");
+  if (!ok) throw InputError("cannot write figure " + path + " (give it a .png name)");
+  WriteFileAtomically(path, std::string(bytes.begin(), bytes.end()));
   return stats;
 }
 

@@ -2,14 +2,15 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/zone.h"
+#include "pictures/image.h"
 
 namespace zbrdf {
 
@@ -82,22 +83,18 @@ void DrawDomeCrossSection(const OpticalSystem& optics, const std::string& png_pa
                 100 * design.coverage_fraction, design.pixels_per_degree_min);
   cv::putText(image, caption, cv::Point(10, height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5,
               cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  if (!cv::imwrite(png_path, image)) {
-    throw InputError("cannot write " + png_path + "; check that its folder exists and is writable");
-  }
+  WritePng(png_path, image);
 }
 
 void WriteDomeProfileCsv(const DomeDesign& design, const std::string& csv_path) {
-  std::ofstream out(csv_path);
-  if (!out) throw InputError("cannot write " + csv_path + "; check that its folder is writable");
-  out << "r_mm,z_mm,normal_r,normal_z,theta_deg,camera_angle_deg\n";
+  std::string out = "r_mm,z_mm,normal_r,normal_z,theta_deg,camera_angle_deg\n";
   char line[256];
   for (const auto& p : design.profile) {
     std::snprintf(line, sizeof(line), "%.9g,%.9g,%.12g,%.12g,%.9g,%.9g\n", p.r_mm, p.z_mm,
                   p.normal_r, p.normal_z, RadToDeg(p.theta_rad), RadToDeg(p.camera_angle_rad));
-    out << line;
+    out += line;
   }
-  if (!out) throw InputError("writing " + csv_path + " failed (disk full?)");
+  WriteFileAtomically(csv_path, out);
 }
 
 }  // namespace zbrdf

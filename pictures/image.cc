@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 
 #include <cmath>
 #include <cstdio>
@@ -59,7 +60,7 @@ RgbImage ReadExrImage(const std::string& path, int* negative_pixels) {
 }
 
 void WriteExrImage(const std::string& path, const RgbImage& image) {
-  const std::string tmp = path + ".tmp.exr";
+  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
   try {
     Imf::Header header(image.width, image.height);
     Imf::FrameBuffer fb;
@@ -74,16 +75,13 @@ void WriteExrImage(const std::string& path, const RgbImage& image) {
       fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()),
                                      sizeof(float), sizeof(float) * image.width));
     }
-    Imf::OutputFile file(tmp.c_str(), header);
+    Imf::OutputFile file(stream, header);
     file.setFrameBuffer(fb);
     file.writePixels(image.height);
   } catch (const std::exception& e) {
-    std::filesystem::remove(tmp);
-    throw InputError("cannot write OpenEXR image " + path + ": " + e.what());
+    throw InputError("cannot encode OpenEXR image " + path + ": " + e.what());
   }
-  std::error_code error;
-  std::filesystem::rename(tmp, path, error);
-  if (error) throw InputError("cannot rename " + tmp + " to " + path + ": " + error.message());
+  WriteFileAtomically(path, stream.str());
 }
 
 double SrgbEncode(double x) {

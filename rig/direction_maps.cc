@@ -11,7 +11,9 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
+#include <sstream>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
 
@@ -204,7 +206,7 @@ std::vector<float> FootprintMoments(const OpticalSystem& optics, const Direction
 }
 
 template <typename T>
-void WriteVector(std::ofstream& out, const std::vector<T>& v) {
+void WriteVector(std::ostream& out, const std::vector<T>& v) {
   const uint64_t n = v.size();
   out.write(reinterpret_cast<const char*>(&n), sizeof(n));
   out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
@@ -219,7 +221,7 @@ bool ReadVector(std::ifstream& in, std::vector<T>* v, uint64_t max_elements) {
       in.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * sizeof(T))));
 }
 
-void WriteMap(std::ofstream& out, const DirectionMap& m) {
+void WriteMap(std::ostream& out, const DirectionMap& m) {
   const int32_t dims[2] = {m.width, m.height};
   out.write(reinterpret_cast<const char*>(dims), sizeof(dims));
   WriteVector(out, m.direction);
@@ -322,11 +324,8 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
   RigMaps maps = BuildRigMaps(optics, progress);
   std::error_code ec;
   std::filesystem::create_directories(cache_dir, ec);
-  const std::filesystem::path tmp =
-      path.string() + ".tmp" + std::to_string(static_cast<long long>(getpid()));
   {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return maps;  // an unwritable cache only costs time
+    std::ostringstream out(std::ios::binary);
     out.write("ZBRDFMAP", 8);
     out.write(reinterpret_cast<const char*>(&hash), sizeof(hash));
     WriteMap(out, maps.camera);
@@ -337,14 +336,12 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
     WriteVector(out, maps.grid.px);
     WriteVector(out, maps.grid.py);
     WriteVector(out, maps.projector_moments);
-    if (!out) {
-      out.close();
-      std::filesystem::remove(tmp, ec);
-      return maps;
+    try {
+      WriteFileAtomically(path.string(), out.str());
+    } catch (const InputError&) {
+      // An unwritable cache only costs time.
     }
   }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) std::filesystem::remove(tmp, ec);
   return maps;
 }
 

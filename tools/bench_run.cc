@@ -433,7 +433,7 @@ void WriteBenchPlot(const nlohmann::json& rows, const std::string& path) {
       text(std::to_string(p.order), cv::Point(X(p.t) + 5, Y(p.e) - 4), 0.35, colors[p.kind]);
     }
   }
-  if (!cv::imwrite(path, image)) throw InputError("cannot write the bench plot " + path);
+  WritePng(path, image);  // pictures/image.h: through basis/atomic_file.h
 }
 
 void BenchOptions::Validate() const {
