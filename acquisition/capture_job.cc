@@ -10,6 +10,7 @@
 #include <set>
 
 #include "acquisition/session.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
 #include "rig/direction_maps.h"
@@ -88,13 +89,85 @@ void CaptureJobOptions::Validate() const {
       .InRange("repeats", repeats, 1, 100)
       .Nested("processing", processing);
   if (adaptive.enabled) check.Nested("adaptive", adaptive);
+  check.Require(!(resume && force_new), "resume, force_new",
+                "--resume continues the session in --out, --force-new starts a new one there: "
+                "give one of them");
   check.ThrowIfInvalid();
 }
+
+namespace {
+
+// The session's plan from its session.json, naming the file in any error.
+CapturePlan SessionPlan(const SessionFolder& session) {
+  const std::string where = SessionPath(session.path(), kSessionFile) + " plan";
+  if (!session.session().contains("plan")) {
+    throw InputError(SessionPath(session.path(), kSessionFile) +
+                     " has no plan; the session folder is damaged");
+  }
+  return CapturePlan::FromJson(session.session().at("plan"), where);
+}
+
+// A writer lock that someone else holds, found before any setup: SessionBusyError.
+void CheckNobodyWrites(const std::string& dir) {
+  std::error_code error;
+  if (!std::filesystem::exists(SessionPath(dir, kLockFile), error)) return;
+  std::shared_ptr<SessionLock> probe = SessionLock::Acquire(dir);  // throws if held elsewhere
+}
+
+}  // namespace
+
+void CheckCaptureJob(const CaptureJobOptions& options) {
+  options.Validate();
+  if (options.resume) {
+    const SessionFolder session = SessionFolder::Open(options.out_dir);
+    const CapturePlan plan = SessionPlan(session);
+    CheckExitantGrid(plan.zone(), plan.order, options.processing.theta_step_deg,
+                     options.processing.phi_step_deg);
+  } else if (!options.force_new) {
+    CheckNewSessionFolder(options.out_dir);
+  }
+  CheckNobodyWrites(options.out_dir);
+}
+
+CapturePlan CheckProcessSession(const std::string& session_dir, const ProcessingOptions& options) {
+  options.Validate();
+  const SessionFolder session = SessionFolder::Open(session_dir);
+  const CapturePlan plan = SessionPlan(session);
+  CheckExitantGrid(plan.zone(), plan.order, options.theta_step_deg, options.phi_step_deg);
+  CheckNobodyWrites(session_dir);
+  return plan;
+}
+
+namespace {
+
+CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& calibration,
+                                        Camera& camera, Projector& projector, Clock& clock,
+                                        const CaptureJobOptions& options);
+
+}  // namespace
 
 CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration, Camera& camera,
                                Projector& projector, Clock& clock,
                                const CaptureJobOptions& options) {
-  options.Validate();
+  try {
+    return RunCaptureJobUnguarded(rig, calibration, camera, projector, clock, options);
+  } catch (const FileWriteError& e) {
+    // What to do once the disk has room again: whatever was journaled is kept.
+    if (SessionFolder::Exists(options.out_dir)) {
+      throw e.WithNextStep(
+          "continue with the same command plus --resume (every frame "
+          "journaled so far is kept)");
+    }
+    throw e.WithNextStep("run the same command again");
+  }
+}
+
+namespace {
+
+CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& calibration,
+                                        Camera& camera, Projector& projector, Clock& clock,
+                                        const CaptureJobOptions& options) {
+  CheckCaptureJob(options);
   CaptureJobResult result;
   const double settle_us =
       options.settle_us >= 0 ? options.settle_us : rig.timing.projector_settle_ms * 1e3;
@@ -102,20 +175,14 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   PlanOptions po;
   if (options.resume) {
     opened = SessionFolder::OpenForWriting(options.out_dir);
-    if (!opened->session().contains("plan")) {
-      throw InputError("session " + options.out_dir + " has no plan in session.json; it cannot be resumed");
-    }
-    result.plan = CapturePlan::FromJson(opened->session().at("plan"));
+    result.plan = SessionPlan(*opened);
     if (opened->session().value("rig_hash", std::string()) != std::to_string(RigHash(rig))) {
       throw InputError("session " + options.out_dir + " was captured with another rig "
                        "description; resume it with the same --rig and --preset");
     }
+    result.repairs = opened->repairs();
   } else {
     // Everything is validated before the folder is created: a refused job leaves no trace.
-    if (SessionFolder::Exists(options.out_dir)) {
-      throw InputError("folder " + options.out_dir +
-                       " already holds a session; resume it (--resume) or choose another --out");
-    }
     double covered_lo, covered_hi;
     calibration.CoveredThetaRange(&covered_lo, &covered_hi);
     if (options.zone_min_deg >= 0 && options.zone_max_deg > 0) {
@@ -147,7 +214,10 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
     }
     po.repeats = options.repeats;
     po.shortest_exposure_us = options.shortest_exposure_us > 0 ? options.shortest_exposure_us : 1000;
-    MakePlan(po);  // validates the options before metering
+    // Validates the options, and the exitant grid against the zone and order, before metering.
+    CheckExitantGrid(Zone(po.theta_min_rad, po.theta_max_rad), po.order,
+                     options.processing.theta_step_deg, options.processing.phi_step_deg);
+    MakePlan(po);
     result.metered_exposure_us = options.shortest_exposure_us > 0
                                      ? options.shortest_exposure_us
                                      : MeterExposure(camera, projector, clock, calibration, settle_us);
@@ -171,9 +241,11 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
                                    {"bit_depth", ci.bit_depth}}},
                        {"projector", {{"id", pi.id}, {"model", pi.model}, {"width", pi.width},
                                       {"height", pi.height}, {"bit_depth", pi.bit_depth}}}};
+    if (options.force_new) result.moved_aside = MoveSessionFolderAside(options.out_dir);
     opened = SessionFolder::Create(options.out_dir, info);
   }
   SessionFolder& session = *opened;
+  result.lock = session.lock();
   result.predicted_capture_time_s = PredictCaptureTimeS(result.plan, rig.timing);
   if (options.on_plan) options.on_plan(result.plan, result.predicted_capture_time_s);
 
@@ -250,20 +322,38 @@ CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration
   return result;
 }
 
-ProcessResult ProcessSession(const std::string& session_dir, const RigCalibration& calibration,
-                             const ProcessingOptions& options, const std::string& pattern_cache_dir,
-                             const ProgressCallback& progress) {
+ProcessResult ProcessSessionUnguarded(const std::string& session_dir,
+                                      const RigCalibration& calibration,
+                                      const ProcessingOptions& options,
+                                      const std::string& pattern_cache_dir,
+                                      const ProgressCallback& progress) {
+  CheckProcessSession(session_dir, options);
   const SessionFolder session = SessionFolder::OpenForWriting(session_dir);
-  if (!session.session().contains("plan")) {
-    throw InputError(session_dir + "/session.json has no plan; the session folder is damaged");
-  }
   ProcessResult result;
-  result.plan = CapturePlan::FromJson(session.session().at("plan"));
+  result.lock = session.lock();
+  result.repairs = session.repairs();
+  result.plan = SessionPlan(session);
   const PatternSet patterns(result.plan, calibration,
                             pattern_cache_dir.empty() ? DefaultCacheDir() : pattern_cache_dir,
                             progress);
   std::map<int, JournalEntry> journal;
-  for (JournalEntry& e : session.ReadJournal()) journal[e.index] = std::move(e);
+  // An adaptive session decides its exposures (all but a bracket's first) while it captures.
+  const nlohmann::json& info = session.session();
+  const bool adaptive_exposures =
+      info.contains("adaptive") && info["adaptive"].is_object() &&
+      info["adaptive"].contains("options") &&
+      AdaptiveOptions::FromJson(info["adaptive"]["options"]).adaptive_exposures;
+  for (JournalEntry& e : session.ReadJournal()) {
+    if (e.index >= result.plan.frame_count()) continue;  // an adaptive session's dropped bands
+    const std::string mismatch =
+        JournalEntryMismatch(e, result.plan, session.session_id(), !adaptive_exposures);
+    if (!mismatch.empty()) {
+      throw InputError("session " + session_dir + ": " + mismatch +
+                       "; the journal does not belong to this session or is damaged: resume the "
+                       "capture (--resume) to take the frame again");
+    }
+    journal[e.index] = std::move(e);
+  }
   ProcessingOptions processing = options;
   processing.hdr_folder = SessionPath(session_dir, kHdrFolder);
   ZonalProcessor processor(result.plan, patterns.lobes(), calibration, processing);
@@ -306,6 +396,19 @@ ProcessResult ProcessSession(const std::string& session_dir, const RigCalibratio
   }
   WriteZonalExr(SessionPath(session_dir, kZonalFile), result.zonal);
   return result;
+}
+
+}  // namespace
+
+ProcessResult ProcessSession(const std::string& session_dir, const RigCalibration& calibration,
+                             const ProcessingOptions& options, const std::string& pattern_cache_dir,
+                             const ProgressCallback& progress) {
+  try {
+    return ProcessSessionUnguarded(session_dir, calibration, options, pattern_cache_dir, progress);
+  } catch (const FileWriteError& e) {
+    throw e.WithNextStep("run zbrdf process " + session_dir +
+                         " again (the previous zonal.exr and HDR images are untouched)");
+  }
 }
 
 }  // namespace zbrdf

@@ -29,6 +29,10 @@ namespace zbrdf {
 struct CaptureJobOptions {
   std::string out_dir;
   bool resume = false;
+  // A new session in a folder that is not empty (another session, or files without a
+  // session.json): move the folder aside to "<out_dir>.before-<UTC time>" first (nothing is
+  // deleted). Without it such a folder is refused (CheckNewSessionFolder).
+  bool force_new = false;
   int order = 4;
   // < 0: the rig's coverage, 1.5 projector pixels (at least 0.2 deg) inside its edges.
   double zone_min_deg = -1, zone_max_deg = -1;
@@ -58,6 +62,11 @@ struct CaptureJobOptions {
 struct CaptureJobResult {
   CapturePlan plan;
   CaptureResult capture;
+  // The session's writer lock, still held: keep the result (or this pointer) while writing more
+  // into the session (report.json); released when the last copy is gone.
+  std::shared_ptr<SessionLock> lock;
+  SessionRepairs repairs;   // what resuming repaired (torn journal line, temporary files)
+  std::string moved_aside;  // force_new: where the folder's earlier contents went
   ProcessingStats processing;
   ZonalData zonal;                 // empty if the capture was interrupted
   double predicted_capture_time_s = 0;
@@ -68,21 +77,37 @@ struct CaptureJobResult {
   nlohmann::json adaptive;         // adaptive sessions: AdaptiveController::Report(); else null
 };
 
-// Throws InputError for bad options or a session that cannot be resumed, DeviceError when a
-// device fails (the journal keeps what was captured: resume with options.resume).
+// The checks RunCaptureJob makes before it does anything, for callers to run before their own
+// setup (devices, the virtual rig): the options, the output folder's state (a session to resume;
+// or for a new session a folder that is empty or absent, unless force_new), and that no other
+// process is writing the session (SessionBusyError). Writes nothing.
+void CheckCaptureJob(const CaptureJobOptions& options);
+
+// Throws InputError for bad options or a session that cannot be resumed, SessionBusyError if
+// another process writes the session, FileWriteError (a disk full, ...) naming the file and "the
+// same command plus --resume" as the next step, DeviceError when a device fails (the journal
+// keeps what was captured: resume with options.resume).
 CaptureJobResult RunCaptureJob(const Rig& rig, const RigCalibration& calibration, Camera& camera,
                                Projector& projector, Clock& clock, const CaptureJobOptions& options);
 
 // Re-processes a captured session from its frames on disk (zbrdf process): HDR, zonal
-// extraction, zonal.exr. The plan comes from session.json; every journaled frame is verified
-// against its checksum. Throws InputError naming a missing or corrupt frame (resume the capture
-// to take it again).
+// extraction, zonal.exr, holding the session's writer lock. The plan comes from session.json;
+// every journal line must match it (JournalEntryMismatch) and every frame its checksums. Throws
+// InputError naming a missing, corrupt or foreign frame (resume the capture to take it again),
+// SessionBusyError if another process writes the session, FileWriteError naming the file (the
+// previous zonal.exr and HDR images are untouched).
 struct ProcessResult {
   CapturePlan plan;
   ProcessingStats processing;
   ZonalData zonal;
   double read_seconds = 0;  // reading and verifying frames
+  std::shared_ptr<SessionLock> lock;  // still held, as CaptureJobResult::lock
+  SessionRepairs repairs;
 };
+// The checks ProcessSession makes before it does anything: the session exists, its plan is
+// valid, the options are, and the exitant grid resolves the plan's order; and that no other
+// process writes the session. Writes nothing. Returns the plan.
+CapturePlan CheckProcessSession(const std::string& session_dir, const ProcessingOptions& options);
 ProcessResult ProcessSession(const std::string& session_dir, const RigCalibration& calibration,
                              const ProcessingOptions& options, const std::string& pattern_cache_dir,
                              const ProgressCallback& progress = nullptr);

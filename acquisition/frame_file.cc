@@ -9,8 +9,26 @@
 #include <tiffio.hxx>
 
 #include "basis/error.h"
+#include "basis/hash.h"
 
 namespace zbrdf {
+
+namespace {
+
+constexpr char kDescriptionPrefix[] = "zbrdf raw frame: ";
+constexpr char kSamplesKey[] = ", samples fnv1a64:";
+
+}  // namespace
+
+uint64_t FrameSamplesChecksum(const std::vector<uint16_t>& samples) {
+  uint64_t h = kFnv1a64Offset;
+  for (uint16_t v : samples) {
+    const unsigned char bytes[2] = {static_cast<unsigned char>(v & 0xff),
+                                    static_cast<unsigned char>(v >> 8)};
+    h = Fnv1a64(bytes, 2, h);
+  }
+  return h;
+}
 
 std::string EncodeFrameFile(const Frame& frame) {
   if (frame.layout == PixelLayout::kRgb || frame.width <= 0 || frame.height <= 0 ||
@@ -23,10 +41,11 @@ std::string EncodeFrameFile(const Frame& frame) {
   std::ostringstream stream;
   TIFF* tiff = TIFFStreamOpen("frame", &stream);
   if (tiff == nullptr) throw InternalError("libtiff cannot open an in-memory stream");
-  char description[160];
+  char description[200];
   std::snprintf(description, sizeof(description),
-                "zbrdf raw frame: layout %s, %d significant bits, exposure %.3f us",
-                PixelLayoutName(frame.layout).c_str(), frame.bit_depth, frame.exposure_us);
+                "%slayout %s, %d significant bits, exposure %.3f us%s%016llx", kDescriptionPrefix,
+                PixelLayoutName(frame.layout).c_str(), frame.bit_depth, frame.exposure_us,
+                kSamplesKey, static_cast<unsigned long long>(FrameSamplesChecksum(frame.data)));
   const int rows_per_strip = 64;
   bool ok = TIFFSetField(tiff, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(frame.width)) &&
             TIFFSetField(tiff, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(frame.height)) &&
@@ -58,13 +77,19 @@ namespace {
 
 // Whether a TIFF's first directory describes the expected frame: width x height, one 16-bit
 // sample per pixel, in strips. Checked with libtiff before any pixel buffer is allocated: a few
-// damaged header bytes can otherwise declare gigabytes (found by fuzz/frame_file_fuzz).
-bool TiffDescribesFrame(const std::string& bytes, int width, int height) {
+// damaged header bytes can otherwise declare gigabytes (found by fuzz/frame_file_fuzz). Its
+// ImageDescription goes to *description ("" if it has none).
+bool TiffDescribesFrame(const std::string& bytes, int width, int height, std::string* description) {
   std::istringstream in(bytes);
   TIFF* tiff = TIFFStreamOpen("frame", static_cast<std::istream*>(&in));
   if (tiff == nullptr) return false;
   uint32_t w = 0, h = 0;
   uint16_t bits = 0, samples = 0;
+  char* text = nullptr;
+  description->clear();
+  if (TIFFGetField(tiff, TIFFTAG_IMAGEDESCRIPTION, &text) == 1 && text != nullptr) {
+    *description = text;
+  }
   const bool ok = TIFFGetField(tiff, TIFFTAG_IMAGEWIDTH, &w) == 1 &&
                   TIFFGetField(tiff, TIFFTAG_IMAGELENGTH, &h) == 1 &&
                   TIFFGetFieldDefaulted(tiff, TIFFTAG_BITSPERSAMPLE, &bits) == 1 &&
@@ -87,6 +112,35 @@ bool PngDescribesFrame(const std::string& bytes, int width, int height) {
          static_cast<unsigned char>(bytes[24]) == 16 && bytes[25] == 0;
 }
 
+// The checksum a frame file's ImageDescription records: true and *checksum for a frame written
+// with one; true and *has_checksum false for a frame of an earlier version (the description
+// without it, or none); false for a description that is neither (damaged).
+bool ParseDescription(const std::string& description, bool* has_checksum, uint64_t* checksum) {
+  *has_checksum = false;
+  if (description.empty()) return true;
+  const std::string prefix = kDescriptionPrefix;
+  if (description.compare(0, prefix.size(), prefix) != 0) return false;
+  const size_t at = description.find(kSamplesKey);
+  if (at == std::string::npos) {
+    // Earlier versions: "zbrdf raw frame: layout L, N significant bits, exposure E us".
+    char layout[32];
+    int bits = 0;
+    double exposure = 0;
+    int consumed = 0;
+    return std::sscanf(description.c_str() + prefix.size(),
+                       "layout %31[a-z-], %d significant bits, exposure %lf us%n", layout, &bits,
+                       &exposure, &consumed) == 3 &&
+           prefix.size() + consumed == description.size();
+  }
+  const std::string hex = description.substr(at + std::string(kSamplesKey).size());
+  if (hex.size() != 16 || hex.find_first_not_of("0123456789abcdef") != std::string::npos) {
+    return false;
+  }
+  *has_checksum = true;
+  *checksum = std::stoull(hex, nullptr, 16);
+  return true;
+}
+
 }  // namespace
 
 std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int height,
@@ -100,8 +154,9 @@ std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int h
   };
   const bool tiff = starts_with(std::string_view("II*\0", 4)) || starts_with(std::string_view("MM\0*", 4));
   const bool png = starts_with("\x89PNG\r\n\x1a\n");
+  std::string description;
   const bool expected = width > 0 && height > 0 &&
-                        ((tiff && TiffDescribesFrame(bytes, width, height)) ||
+                        ((tiff && TiffDescribesFrame(bytes, width, height, &description)) ||
                          (png && PngDescribesFrame(bytes, width, height)));
   if (expected && bytes.size() < (1u << 31)) {
     try {
@@ -120,6 +175,21 @@ std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int h
   for (int y = 0; y < height; ++y) {
     const uint16_t* row = image.ptr<uint16_t>(y);
     std::copy(row, row + width, samples.begin() + static_cast<size_t>(y) * width);
+  }
+  bool has_checksum = false;
+  uint64_t checksum = 0;
+  if (!ParseDescription(description, &has_checksum, &checksum)) {
+    throw InputError(what + " is damaged: its TIFF ImageDescription is not a zbrdf frame's");
+  }
+  if (has_checksum && FrameSamplesChecksum(samples) != checksum) {
+    char text[96];
+    std::snprintf(text, sizeof(text), " (fnv1a64:%016llx, the file records fnv1a64:%016llx)",
+                  static_cast<unsigned long long>(FrameSamplesChecksum(samples)),
+                  static_cast<unsigned long long>(checksum));
+    throw InputError(what +
+                     " is damaged: its samples do not match the checksum the file "
+                     "records" +
+                     text);
   }
   return samples;
 }

@@ -46,9 +46,13 @@ Int JsonInteger(const nlohmann::json& j, const std::string& what) {
   throw InputError(message);
 }
 
-// j.at(key) as an integer; nlohmann::json::out_of_range if the key is missing.
+// j.at(key) as an integer; InputError naming `where` and the key if it is missing (or j is not
+// an object).
 template <typename Int>
 Int JsonIntegerAt(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) {
+    throw InputError(where + " field '" + key + "' is missing");
+  }
   return JsonInteger<Int>(j.at(key), where + " field '" + key + "'");
 }
 

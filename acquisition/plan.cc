@@ -45,43 +45,73 @@ nlohmann::json CapturePlan::ToJson() const {
   return j;
 }
 
-CapturePlan CapturePlan::FromJson(const nlohmann::json& j) {
+CapturePlan CapturePlan::FromJson(const nlohmann::json& j, const std::string& where) {
   CapturePlan plan;
-  try {
-    const auto zone = j.at("zone_rad");
-    plan.theta_min_rad = zone.at(0).get<double>();
-    plan.theta_max_rad = zone.at(1).get<double>();
-    Zone(plan.theta_min_rad, plan.theta_max_rad);  // validates
-    plan.order = JsonIntegerAt<int>(j, "order", "capture plan");
-    plan.exposures_us = j.at("exposures_us").get<std::vector<double>>();
-    plan.repeats = JsonIntegerAt<int>(j, "repeats", "capture plan");
-    for (const auto& name_json : j.at("lobes")) {
-      const std::string name = name_json.get<std::string>();
-      PlannedLobe lobe;
-      if (name == "dark") {
-        lobe.kind = PlannedLobe::Kind::kDark;
-      } else {
-        int l = 0, m = 0;
-        char sign = 0;
-        if (std::sscanf(name.c_str(), "Z%d,%d%c", &l, &m, &sign) != 3 || l < 0 || std::abs(m) > l ||
-            (sign != '+' && sign != '-')) {
-          throw InputError("plan lobe '" + name + "' is not 'dark' or 'Zl,m+' / 'Zl,m-'");
-        }
-        lobe.kind = sign == '+' ? PlannedLobe::Kind::kPositive : PlannedLobe::Kind::kNegative;
-        lobe.l = l;
-        lobe.m = m;
-      }
-      plan.lobes.push_back(lobe);
+  const std::string what = where + " field";
+  if (!j.is_object()) throw InputError(where + " is not a JSON object");
+  // Each field is checked for presence and type before it is read, so that a message names it.
+  const auto field = [&](const char* key) -> const nlohmann::json& {
+    if (!j.contains(key)) throw InputError(what + " '" + key + "' is missing");
+    return j.at(key);
+  };
+  const auto number = [&](const nlohmann::json& v, const std::string& name) {
+    if (!v.is_number()) {
+      throw InputError(what + " '" + name + "' must be a number (got " + v.dump() + ")");
     }
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(std::string("capture plan: missing or malformed field (") + e.what() + ")");
+    return v.get<double>();
+  };
+  const nlohmann::json& zone = field("zone_rad");
+  if (!zone.is_array() || zone.size() != 2) {
+    throw InputError(what + " 'zone_rad' must be [theta_min, theta_max] in radians (got " +
+                     zone.dump() + ")");
+  }
+  plan.theta_min_rad = number(zone[0], "zone_rad[0]");
+  plan.theta_max_rad = number(zone[1], "zone_rad[1]");
+  try {
+    Zone(plan.theta_min_rad, plan.theta_max_rad);  // validates
+  } catch (const InputError& e) {
+    throw InputError(what + " 'zone_rad': " + e.what());
+  }
+  plan.order = JsonIntegerAt<int>(j, "order", where);
+  const nlohmann::json& exposures = field("exposures_us");
+  if (!exposures.is_array()) {
+    throw InputError(what + " 'exposures_us' must be an array of exposures in us");
+  }
+  for (size_t k = 0; k < exposures.size(); ++k) {
+    plan.exposures_us.push_back(number(exposures[k], "exposures_us[" + std::to_string(k) + "]"));
+  }
+  plan.repeats = JsonIntegerAt<int>(j, "repeats", where);
+  const nlohmann::json& lobes = field("lobes");
+  if (!lobes.is_array()) throw InputError(what + " 'lobes' must be an array of lobe names");
+  for (const auto& name_json : lobes) {
+    if (!name_json.is_string()) {
+      throw InputError(what + " 'lobes' holds " + name_json.dump() + ", not a lobe name");
+    }
+    const std::string name = name_json.get<std::string>();
+    PlannedLobe lobe;
+    if (name == "dark") {
+      lobe.kind = PlannedLobe::Kind::kDark;
+    } else {
+      int l = 0, m = 0;
+      char sign = 0;
+      if (std::sscanf(name.c_str(), "Z%d,%d%c", &l, &m, &sign) != 3 || l < 0 || std::abs(m) > l ||
+          (sign != '+' && sign != '-')) {
+        throw InputError(what + " 'lobes': '" + name + "' is not 'dark' or 'Zl,m+' / 'Zl,m-'");
+      }
+      lobe.kind = sign == '+' ? PlannedLobe::Kind::kPositive : PlannedLobe::Kind::kNegative;
+      lobe.l = l;
+      lobe.m = m;
+    }
+    plan.lobes.push_back(lobe);
   }
   if (plan.order < 0 || plan.order > 30 || plan.repeats < 1 || plan.exposures_us.empty() ||
       plan.lobes.empty()) {
-    throw InputError("capture plan: order, repeats, exposures or lobes out of range");
+    throw InputError(where +
+                     ": order (0..30), repeats (>= 1), exposures_us or lobes (not empty) "
+                     "out of range");
   }
   for (double t : plan.exposures_us) {
-    if (!(t > 0 && std::isfinite(t))) throw InputError("capture plan: exposures must be > 0");
+    if (!(t > 0 && std::isfinite(t))) throw InputError(what + " 'exposures_us' must all be > 0");
   }
   return plan;
 }

@@ -51,8 +51,9 @@ struct CapturePlan {
   int FrameIndex(int lobe, int exposure, int repeat) const;
 
   nlohmann::json ToJson() const;
-  // Throws InputError naming the field if the JSON is not a valid plan.
-  static CapturePlan FromJson(const nlohmann::json& j);
+  // Throws InputError naming `where` (e.g. "sessions/x/session.json plan") and the field if the
+  // JSON is not a valid plan: "sessions/x/session.json plan field 'order' is missing".
+  static CapturePlan FromJson(const nlohmann::json& j, const std::string& where = "capture plan");
 };
 
 struct PlanOptions {

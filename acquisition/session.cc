@@ -1,15 +1,20 @@
 #include "acquisition/session.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "acquisition/frame_file.h"
@@ -23,7 +28,16 @@ namespace zbrdf {
 
 namespace {
 
+namespace fs = std::filesystem;
+
+constexpr char kLineCheckKey[] = ",\"line_check\":\"";
+
 std::string ReadBytes(const std::string& path, bool* ok) {
+  std::error_code error;
+  if (fs::is_directory(path, error)) {
+    *ok = false;
+    return {};
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     *ok = false;
@@ -42,13 +56,60 @@ std::string Checksum(const std::string& bytes) {
   return out;
 }
 
-std::string UtcNow() {
+std::string UtcNow(const char* format = "%Y-%m-%dT%H:%M:%SZ") {
   const std::time_t t = std::time(nullptr);
   std::tm tm{};
   gmtime_r(&t, &tm);
   char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  std::strftime(buf, sizeof(buf), format, &tm);
   return buf;
+}
+
+// The command line of this process, for the lock file ("zbrdf process sessions/x").
+std::string CommandLineOfThisProcess() {
+  bool ok = true;
+  std::string text = ReadBytes("/proc/self/cmdline", &ok);
+  if (!ok || text.empty()) return "pid " + std::to_string(::getpid());
+  for (char& c : text) {
+    if (c == '\0') c = ' ';
+  }
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  const size_t slash = text.substr(0, text.find(' ')).rfind('/');
+  if (slash != std::string::npos) text = text.substr(slash + 1);
+  return text.size() > 200 ? text.substr(0, 200) + "..." : text;
+}
+
+// The locks this process holds, by canonical folder (SessionLock is re-entrant per process).
+struct HeldLock {
+  int fd = -1;
+  int handles = 0;
+};
+std::mutex g_locks_mutex;
+std::map<std::string, HeldLock> g_locks;
+
+// What a folder that is to receive a new session holds, other than what a run killed before its
+// session.json leaves: one entry per item, e.g. "journal.jsonl", "frames/ (150 files)".
+std::vector<std::string> UnexpectedContents(const std::string& path) {
+  std::vector<std::string> found;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(path, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name == kLockFile) continue;
+    if (entry.is_directory(error) && (name == kFramesFolder || name == kHdrFolder)) {
+      int files = 0;
+      int temporary = 0;
+      for (const auto& inner : fs::directory_iterator(entry.path(), error)) {
+        ++files;
+        temporary += IsTemporaryFileName(inner.path().filename().string());
+      }
+      if (files > temporary) found.push_back(name + "/ (" + std::to_string(files) + " files)");
+      continue;
+    }
+    if (IsTemporaryFileName(name) && entry.is_regular_file(error)) continue;
+    found.push_back(entry.is_directory(error) ? name + "/" : name);
+  }
+  std::sort(found.begin(), found.end());
+  return found;
 }
 
 }  // namespace
@@ -60,31 +121,61 @@ std::string FileChecksum(const std::string& path) {
 }
 
 nlohmann::json JournalEntry::ToJson() const {
-  return {{"index", index},       {"lobe", lobe},           {"exposure", exposure},
-          {"repeat", repeat},     {"exposure_us_requested", exposure_us_requested},
-          {"exposure_us", exposure_us}, {"frame_id", frame_id}, {"timestamp_us", timestamp_us},
-          {"wall_time", wall_time}, {"file", file},         {"checksum", checksum},
-          {"width", width},       {"height", height},       {"bit_depth", bit_depth},
-          {"layout", layout}};
+  nlohmann::json j = {{"index", index},
+                      {"lobe", lobe},
+                      {"exposure", exposure},
+                      {"repeat", repeat},
+                      {"exposure_us_requested", exposure_us_requested},
+                      {"exposure_us", exposure_us},
+                      {"frame_id", frame_id},
+                      {"timestamp_us", timestamp_us},
+                      {"wall_time", wall_time},
+                      {"file", file},
+                      {"checksum", checksum},
+                      {"width", width},
+                      {"height", height},
+                      {"bit_depth", bit_depth},
+                      {"layout", layout}};
+  if (!session_id.empty()) j["session_id"] = session_id;
+  return j;
+}
+
+std::string JournalEntry::ToLine() const {
+  const std::string body = ToJson().dump();
+  return body.substr(0, body.size() - 1) + kLineCheckKey + Checksum(body) + "\"}\n";
 }
 
 JournalEntry JournalEntry::FromJson(const nlohmann::json& j) {
+  const std::string where = "journal entry";
+  const auto text = [&](const char* key) {
+    if (!j.contains(key) || !j.at(key).is_string()) {
+      throw InputError(where + " field '" + key + "' is missing or not a string");
+    }
+    return j.at(key).get<std::string>();
+  };
+  const auto number = [&](const char* key) {
+    if (!j.contains(key) || !j.at(key).is_number()) {
+      throw InputError(where + " field '" + key + "' is missing or not a number");
+    }
+    return j.at(key).get<double>();
+  };
   JournalEntry e;
-  e.index = JsonIntegerAt<int>(j, "index", "journal entry");
-  e.lobe = j.at("lobe").get<std::string>();
-  e.exposure = JsonIntegerAt<int>(j, "exposure", "journal entry");
-  e.repeat = JsonIntegerAt<int>(j, "repeat", "journal entry");
-  e.exposure_us_requested = j.at("exposure_us_requested").get<double>();
-  e.exposure_us = j.at("exposure_us").get<double>();
-  e.frame_id = JsonIntegerAt<uint64_t>(j, "frame_id", "journal entry");
-  e.timestamp_us = JsonIntegerAt<int64_t>(j, "timestamp_us", "journal entry");
-  e.wall_time = j.at("wall_time").get<std::string>();
-  e.file = j.at("file").get<std::string>();
-  e.checksum = j.at("checksum").get<std::string>();
-  e.width = JsonIntegerAt<int>(j, "width", "journal entry");
-  e.height = JsonIntegerAt<int>(j, "height", "journal entry");
-  e.bit_depth = JsonIntegerAt<int>(j, "bit_depth", "journal entry");
-  e.layout = j.at("layout").get<std::string>();
+  e.index = JsonIntegerAt<int>(j, "index", where);
+  e.lobe = text("lobe");
+  e.exposure = JsonIntegerAt<int>(j, "exposure", where);
+  e.repeat = JsonIntegerAt<int>(j, "repeat", where);
+  e.exposure_us_requested = number("exposure_us_requested");
+  e.exposure_us = number("exposure_us");
+  e.frame_id = JsonIntegerAt<uint64_t>(j, "frame_id", where);
+  e.timestamp_us = JsonIntegerAt<int64_t>(j, "timestamp_us", where);
+  e.wall_time = text("wall_time");
+  e.file = text("file");
+  e.checksum = text("checksum");
+  e.width = JsonIntegerAt<int>(j, "width", where);
+  e.height = JsonIntegerAt<int>(j, "height", where);
+  e.bit_depth = JsonIntegerAt<int>(j, "bit_depth", where);
+  e.layout = text("layout");
+  if (j.contains("session_id")) e.session_id = text("session_id");
   if (e.index < 0 || e.width <= 0 || e.height <= 0 || e.bit_depth < 1 || e.bit_depth > 16 ||
       !(e.exposure_us > 0) || e.file.find("..") != std::string::npos) {
     throw InputError("journal entry " + std::to_string(e.index) + " has out-of-range fields");
@@ -104,26 +195,180 @@ std::string FitReportFileName(const std::string& model) {
 
 std::string ShFileName(const std::string& target) { return kShFilePrefix + target + ".exr"; }
 
+std::string TornJournalFileName(int n) {
+  return std::string(kJournalFile) + ".torn-" + std::to_string(n);
+}
+
 std::string SessionPath(const std::string& dir, const std::string& name) {
   return dir + "/" + name;
 }
 
+std::shared_ptr<SessionLock> SessionLock::Acquire(const std::string& dir) {
+  std::error_code error;
+  const std::string key = fs::canonical(dir, error).string();
+  if (error) throw InputError("cannot lock session " + dir + ": " + error.message());
+  std::lock_guard<std::mutex> guard(g_locks_mutex);
+  auto held = g_locks.find(key);
+  if (held == g_locks.end()) {
+    const std::string path = SessionPath(dir, kLockFile);
+    // O_CLOEXEC: a child process (a fake camera) must not inherit, and so keep, the lock.
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) {
+      throw FileWriteError(path, errno, 0, FreeBytes(path),
+                           "run the command again (a session's writer needs its lock file)");
+    }
+    // A few tries: a process probing the lock (CheckCaptureJob) holds it for an instant.
+    int locked = -1, flock_error = 0;
+    for (int attempt = 0; attempt < 10 && locked != 0; ++attempt) {
+      locked = ::flock(fd, LOCK_EX | LOCK_NB);
+      flock_error = locked == 0 ? 0 : errno;
+      if (locked != 0 && flock_error != EWOULDBLOCK) break;
+      if (locked != 0) ::usleep(5000);
+    }
+    if (locked != 0) {
+      ::close(fd);
+      if (flock_error != EWOULDBLOCK) {
+        throw InputError("cannot lock session " + dir + " (" + std::strerror(flock_error) +
+                         "); its file system may not support flock(2)");
+      }
+      std::string holder = Holder(dir);
+      long pid = 0;
+      std::sscanf(holder.c_str(), "pid %ld", &pid);
+      if (holder.empty()) holder = "another process (it has not written its PID yet)";
+      throw SessionBusyError("session " + dir + " is being written by " + holder +
+                                 "; one process writes a session at a time: wait for it to "
+                                 "finish (or stop it), then run this command again",
+                             pid);
+    }
+    // Who holds it, for the next writer's message. The lock file is rewritten in place: it must
+    // stay the inode the lock is on (not a project output; tests/write_sites_test.cc).
+    const std::string text = "pid " + std::to_string(::getpid()) + ": " +
+                             CommandLineOfThisProcess() + ", since " + UtcNow() + "\n";
+    if (::ftruncate(fd, 0) != 0 ||
+        ::pwrite(fd, text.data(), text.size(), 0) != static_cast<ssize_t>(text.size())) {
+      // The lock holds regardless; only the next writer's message lacks the PID.
+    }
+    held = g_locks.emplace(key, HeldLock{fd, 0}).first;
+  }
+  ++held->second.handles;
+  return std::shared_ptr<SessionLock>(new SessionLock(key));
+}
+
+SessionLock::~SessionLock() {
+  std::lock_guard<std::mutex> guard(g_locks_mutex);
+  auto held = g_locks.find(key_);
+  if (held == g_locks.end()) return;
+  if (--held->second.handles == 0) {
+    ::close(held->second.fd);  // releases the flock
+    g_locks.erase(held);
+  }
+}
+
+std::string SessionLock::Holder(const std::string& dir) {
+  const std::string path = SessionPath(dir, kLockFile);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";
+  // A shared lock we can take means no writer holds it.
+  if (::flock(fd, LOCK_SH | LOCK_NB) == 0) {
+    ::close(fd);
+    return "";
+  }
+  char text[512];
+  std::string holder;
+  // The holder writes its line right after locking: give it a moment.
+  for (int attempt = 0; attempt < 20 && holder.empty(); ++attempt) {
+    const ssize_t n = ::pread(fd, text, sizeof(text) - 1, 0);
+    if (n > 0) holder.assign(text, static_cast<size_t>(n));
+    while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+    if (holder.empty()) ::usleep(5000);
+  }
+  ::close(fd);
+  return holder;
+}
+
+std::string SessionRepairs::Summary() const {
+  std::string out;
+  if (torn_journal_bytes > 0) {
+    out = "cut a torn last line from the journal (" + FormatBytes(torn_journal_bytes) +
+          ", kept in " + torn_journal_copy + "; its frame is taken again)";
+  }
+  if (!temporary_files_removed.empty()) {
+    if (!out.empty()) out += "; ";
+    out += "removed " + std::to_string(temporary_files_removed.size()) +
+           " temporary file(s) of a killed run";
+  }
+  return out;
+}
+
 bool SessionFolder::Exists(const std::string& path) {
-  return std::filesystem::exists(std::filesystem::path(path) / kSessionFile);
+  return fs::exists(fs::path(path) / kSessionFile);
+}
+
+void CheckNewSessionFolder(const std::string& path) {
+  if (SessionFolder::Exists(path)) {
+    throw InputError("folder " + path +
+                     " already holds a session; resume it (--resume), choose another --out, or "
+                     "give --force-new to move it aside and start a new one");
+  }
+  std::error_code error;
+  if (!fs::exists(path, error)) return;
+  if (!fs::is_directory(path, error)) {
+    throw InputError("--out " + path + " is a file, not a folder; choose another --out");
+  }
+  const std::vector<std::string> found = UnexpectedContents(path);
+  if (found.empty()) return;
+  std::string list;
+  for (size_t k = 0; k < found.size() && k < 6; ++k) list += (k ? ", " : "") + found[k];
+  if (found.size() > 6) list += " and " + std::to_string(found.size() - 6) + " more";
+  throw InputError("folder " + path + " is not empty but holds no session.json (found " + list +
+                   "): frames there could come from any plan, exposure or material, so none is "
+                   "trusted. Choose another --out, or give --force-new to move the folder aside "
+                   "(to " +
+                   path + ".before-<time>; nothing is deleted) and start a new session");
+}
+
+std::string MoveSessionFolderAside(const std::string& path) {
+  std::error_code error;
+  if (!fs::exists(path, error)) return "";
+  if (fs::is_directory(path, error) && UnexpectedContents(path).empty() &&
+      !SessionFolder::Exists(path)) {
+    return "";
+  }
+  std::shared_ptr<SessionLock> lock;
+  if (fs::is_directory(path, error) && fs::exists(SessionPath(path, kLockFile), error)) {
+    lock = SessionLock::Acquire(path);  // nobody may be writing what is moved
+  }
+  std::string base = path;
+  while (base.size() > 1 && base.back() == '/') base.pop_back();
+  std::string target = base + ".before-" + UtcNow("%Y%m%dT%H%M%SZ");
+  for (int n = 2; fs::exists(target, error); ++n) {
+    target = base + ".before-" + UtcNow("%Y%m%dT%H%M%SZ") + "-" + std::to_string(n);
+  }
+  fs::rename(path, target, error);
+  if (error) {
+    throw InputError("cannot move " + path + " aside to " + target + ": " + error.message() +
+                     "; move or rename it yourself, or choose another --out");
+  }
+  return target;
 }
 
 SessionFolder SessionFolder::Create(const std::string& path, const nlohmann::json& session) {
-  if (Exists(path)) {
-    throw InputError("folder " + path +
-                     " already holds a session; resume it (--resume) or choose another --out");
-  }
+  CheckNewSessionFolder(path);
   std::error_code ec;
-  for (const char* sub : {"", kFramesFolder, kHdrFolder}) {
-    std::filesystem::create_directories(std::filesystem::path(path) / sub, ec);
+  fs::create_directories(path, ec);
+  if (ec) throw InputError("cannot create session folder " + path + ": " + ec.message());
+  SessionFolder folder(path);
+  folder.lock_ = SessionLock::Acquire(path);
+  CheckNewSessionFolder(path);  // again, under the lock: another process may have been first
+  for (const char* sub : {kFramesFolder, kHdrFolder}) {
+    fs::create_directories(fs::path(path) / sub, ec);
     if (ec) throw InputError("cannot create session folder " + path + ": " + ec.message());
   }
-  SessionFolder folder(path);
-  folder.UpdateSession(session);
+  folder.RepairForWriting();  // temporary files of a run killed before its session.json
+  nlohmann::json info = session;
+  info.erase("session_id");
+  info["session_id"] = Checksum(info.dump()).substr(std::string("fnv1a64:").size());
+  folder.UpdateSession(info);
   return folder;
 }
 
@@ -132,8 +377,12 @@ SessionFolder SessionFolder::Open(const std::string& path) {
   bool ok = true;
   const std::string text = ReadBytes(SessionPath(path, kSessionFile), &ok);
   if (!ok) {
-    throw InputError("no session in " + path + " (session.json missing); run zbrdf capture or "
-                     "zbrdf simulate with --out " + path + " first");
+    std::error_code error;
+    const bool has_journal = fs::exists(SessionPath(path, kJournalFile), error);
+    throw InputError("no session in " + path + " (session.json missing" +
+                     (has_journal ? "; a journal and frames without it cannot be trusted" : "") +
+                     "); run zbrdf capture or zbrdf simulate with --out " + path +
+                     (has_journal ? " --force-new" : "") + " first");
   }
   folder.session_ = nlohmann::json::parse(text, nullptr, false);
   if (folder.session_.is_discarded() || !folder.session_.is_object()) {
@@ -144,13 +393,51 @@ SessionFolder SessionFolder::Open(const std::string& path) {
 }
 
 SessionFolder SessionFolder::OpenForWriting(const std::string& path) {
-  SessionFolder folder = Open(path);
   std::error_code ec;
+  if (!fs::is_directory(path, ec)) {
+    throw InputError("no session in " + path +
+                     " (no such folder); run zbrdf capture or zbrdf "
+                     "simulate with --out " +
+                     path + " first");
+  }
+  std::shared_ptr<SessionLock> lock = SessionLock::Acquire(path);
+  SessionFolder folder = Open(path);  // under the lock: the latest session.json
+  folder.lock_ = std::move(lock);
   for (const char* sub : {kFramesFolder, kHdrFolder}) {
-    std::filesystem::create_directories(std::filesystem::path(path) / sub, ec);
+    fs::create_directories(fs::path(path) / sub, ec);
     if (ec) throw InputError("cannot create " + path + "/" + sub + ": " + ec.message());
   }
+  folder.RepairForWriting();
   return folder;
+}
+
+void SessionFolder::RepairForWriting() {
+  for (const std::string& sub :
+       {std::string(), std::string(kFramesFolder) + "/", std::string(kHdrFolder) + "/"}) {
+    for (const std::string& name :
+         RemoveStaleTemporaryFiles(sub.empty() ? path_ : SessionPath(path_, sub))) {
+      repairs_.temporary_files_removed.push_back(sub + name);
+    }
+  }
+  const std::string journal = SessionPath(path_, kJournalFile);
+  bool ok = true;
+  const std::string bytes = ReadBytes(journal, &ok);
+  if (!ok || bytes.empty() || bytes.back() == '\n') return;
+  // A line torn by a crash or a full disk: appending would glue the next line onto it. Keep it
+  // (journal.jsonl.torn-<n>), then cut it away; its frame is captured again.
+  const size_t keep = bytes.rfind('\n') == std::string::npos ? 0 : bytes.rfind('\n') + 1;
+  int n = 1;
+  std::error_code error;
+  while (fs::exists(SessionPath(path_, TornJournalFileName(n)), error)) ++n;
+  repairs_.torn_journal_copy = TornJournalFileName(n);
+  repairs_.torn_journal_bytes = bytes.size() - keep;
+  WriteFileAtomically(SessionPath(path_, repairs_.torn_journal_copy), bytes.substr(keep));
+  TruncateFile(journal, keep);
+}
+
+std::string SessionFolder::session_id() const {
+  const auto it = session_.find("session_id");
+  return it != session_.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
 std::string SessionFolder::material() const {
@@ -179,40 +466,54 @@ JournalEntry SessionFolder::WriteFrame(int index, const Frame& frame) {
   e.frame_id = frame.frame_id;
   e.timestamp_us = frame.timestamp_us;
   e.wall_time = UtcNow();
+  e.session_id = session_id();
   return e;
 }
 
 void SessionFolder::AppendJournal(const JournalEntry& entry) {
-  const std::string line = entry.ToJson().dump() + "\n";
-  const std::string path = SessionPath(path_, kJournalFile);
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  if (fd < 0) throw InputError("cannot append to " + path);
-  const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) &&
-                  ::fsync(fd) == 0;
-  ::close(fd);
-  if (!ok) throw InputError("appending to " + path + " failed (disk full?)");
+  AppendToFile(SessionPath(path_, kJournalFile), entry.ToLine());
 }
 
-std::vector<JournalEntry> SessionFolder::ReadJournal() const {
+std::vector<JournalEntry> SessionFolder::ReadJournal() const { return ReadJournalLines().entries; }
+
+JournalReading SessionFolder::ReadJournalLines() const {
+  JournalReading reading;
+  bool ok = true;
+  const std::string bytes = ReadBytes(SessionPath(path_, kJournalFile), &ok);
   std::map<int, JournalEntry> latest;
-  std::ifstream in(SessionPath(path_, kJournalFile));
-  std::string line;
+  size_t begin = 0;
   int number = 0;
-  while (std::getline(in, line)) {
+  while (ok && begin < bytes.size()) {
+    const size_t end = bytes.find('\n', begin);
+    if (end == std::string::npos) {
+      reading.torn_tail = true;  // a line cut short by a crash: not trusted
+      break;
+    }
+    const std::string line = bytes.substr(begin, end - begin);
+    begin = end + 1;
     ++number;
     if (line.empty()) continue;
     const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    if (j.is_discarded()) continue;  // a line cut short by a crash
+    bool intact = !j.is_discarded() && j.is_object();
+    if (intact && j.contains("line_check")) {
+      // The check covers the line's bytes up to the key (closed with '}').
+      const size_t at = line.rfind(kLineCheckKey);
+      intact = at != std::string::npos && j["line_check"].is_string() &&
+               j["line_check"].get<std::string>() == Checksum(line.substr(0, at) + "}");
+    }
+    if (!intact) {
+      reading.damaged_lines.push_back(number);
+      continue;
+    }
     try {
       JournalEntry e = JournalEntry::FromJson(j);
       latest[e.index] = std::move(e);
     } catch (const std::exception&) {
-      // A damaged line: that frame will be captured again.
+      reading.damaged_lines.push_back(number);  // that frame will be captured again
     }
   }
-  std::vector<JournalEntry> out;
-  for (auto& [index, e] : latest) out.push_back(std::move(e));
-  return out;
+  for (auto& [index, e] : latest) reading.entries.push_back(std::move(e));
+  return reading;
 }
 
 bool SessionFolder::FrameIsIntact(const JournalEntry& entry) const {
@@ -236,8 +537,42 @@ Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
   f.exposure_us = entry.exposure_us;
   f.frame_id = entry.frame_id;
   f.timestamp_us = entry.timestamp_us;
-  f.data = DecodeFrameFile(bytes, entry.width, entry.height, "frame " + path);
+  try {
+    f.data = DecodeFrameFile(bytes, entry.width, entry.height, "frame " + path);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + "; resume the capture (--resume) to take it again");
+  }
   return f;
+}
+
+std::string JournalEntryMismatch(const JournalEntry& e, const CapturePlan& plan,
+                                 const std::string& session_id, bool exposures_planned) {
+  const std::string line = "frame " + std::to_string(e.index) + "'s journal line";
+  if (!session_id.empty() && !e.session_id.empty() && e.session_id != session_id) {
+    return line + " belongs to session " + e.session_id + ", not " + session_id;
+  }
+  if (e.index < 0 || e.index >= plan.frame_count()) {
+    return line + ": the plan has " + std::to_string(plan.frame_count()) + " frames";
+  }
+  const PlannedFrame pf = plan.Frame(e.index);
+  const std::string lobe = plan.lobes[pf.lobe].Name();
+  if (e.lobe != lobe || e.exposure != pf.exposure || e.repeat != pf.repeat) {
+    return line + " says lobe " + e.lobe + ", exposure " + std::to_string(e.exposure) +
+           ", repeat " + std::to_string(e.repeat) + "; the plan says lobe " + lobe + ", exposure " +
+           std::to_string(pf.exposure) + ", repeat " + std::to_string(pf.repeat);
+  }
+  if (e.file != FrameFileName(e.index)) {
+    return line + " names file " + e.file + ", not " + FrameFileName(e.index);
+  }
+  const double planned = plan.exposures_us[pf.exposure];
+  if ((exposures_planned || pf.exposure == 0) &&
+      std::abs(e.exposure_us_requested - planned) > 1e-9 * planned) {
+    char text[160];
+    std::snprintf(text, sizeof(text), " requested %.6g us; the plan says %.6g us",
+                  e.exposure_us_requested, planned);
+    return line + text;
+  }
+  return "";
 }
 
 void CaptureOptions::Validate() const {
@@ -255,10 +590,34 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
   CaptureResult result;
   std::map<int, JournalEntry> done;
   int journaled_but_broken = 0;
-  for (JournalEntry& e : session.ReadJournal()) {
-    if (e.index >= plan.frame_count()) continue;
+  const JournalReading journal = session.ReadJournalLines();
+  result.journal_lines_rejected = static_cast<int>(journal.damaged_lines.size());
+  if (!journal.damaged_lines.empty()) {
+    result.first_rejection = "journal line " + std::to_string(journal.damaged_lines[0]) +
+                             " is damaged (it fails its check or is not a journal entry)";
+  }
+  const CameraInfo camera_info = camera.Info();
+  const std::string session_id = session.session_id();
+  for (const JournalEntry& e : journal.entries) {
+    if (e.index >= plan.frame_count()) continue;  // bands an adaptive session did not keep
+    // A line is trusted only if it is one of this session's planned frames, from this camera.
+    std::string mismatch =
+        JournalEntryMismatch(e, plan, session_id, /*exposures_planned=*/!options.exposure_us);
+    if (mismatch.empty() &&
+        (e.width != camera_info.width || e.height != camera_info.height ||
+         e.layout != PixelLayoutName(camera_info.layout) || e.bit_depth != camera_info.bit_depth)) {
+      mismatch = "frame " + std::to_string(e.index) + "'s journal line describes a " +
+                 std::to_string(e.width) + "x" + std::to_string(e.height) + " " + e.layout +
+                 " frame; the camera delivers " + std::to_string(camera_info.width) + "x" +
+                 std::to_string(camera_info.height) + " " + PixelLayoutName(camera_info.layout);
+    }
+    if (!mismatch.empty()) {
+      if (result.first_rejection.empty()) result.first_rejection = mismatch;
+      ++result.journal_lines_rejected;
+      continue;
+    }
     if (session.FrameIsIntact(e)) {
-      done[e.index] = std::move(e);
+      done[e.index] = e;
     } else {
       ++journaled_but_broken;
     }
@@ -340,6 +699,17 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
   }
   result.frames_recaptured = std::min(journaled_but_broken, result.frames_captured);
   result.device_time_s = (clock.NowUs() - start_us) * 1e-6;
+  // What is on disk must say what this run believes: every frame taken or kept has its line.
+  std::map<int, std::string> on_disk;
+  for (const JournalEntry& e : session.ReadJournal()) on_disk[e.index] = e.checksum;
+  for (const auto& [index, e] : done) {
+    const auto it = on_disk.find(index);
+    if (it == on_disk.end() || it->second != e.checksum) {
+      throw InputError("journal " + SessionPath(session.path(), kJournalFile) + " lost frame " +
+                       std::to_string(index) + "'s line while the capture ran; resume the " +
+                       "capture (--resume) to take that frame again");
+    }
+  }
   return result;
 }
 

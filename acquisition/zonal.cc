@@ -251,6 +251,17 @@ Eigen::MatrixXd CellIntegrals(const ExitantGrid& grid, const ZonalBasis& zb) {
   return a;
 }
 
+void CheckExitantGrid(const Zone& zone, int order, double theta_step_deg, double phi_step_deg) {
+  const ExitantGrid grid = MakeExitantGrid(zone, theta_step_deg, phi_step_deg);
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "an exitant grid of %g x %g deg cells has %d rows and %d columns on the zone; "
+                "order %d needs at least %d and %d: choose smaller --grid cells",
+                theta_step_deg, phi_step_deg, grid.n_theta, grid.n_phi, order, order + 1,
+                2 * order + 1);
+  if (grid.n_theta < order + 1 || grid.n_phi < 2 * order + 1) throw InputError(text);
+}
+
 void ProjectExitant(ZonalData* data) {
   const ZonalBasis zb(data->zone(), data->order);
   const Eigen::MatrixXd a = CellIntegrals(data->grid, zb);

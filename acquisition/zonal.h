@@ -91,6 +91,12 @@ struct ZonalData {
   Zone zone() const { return Zone(theta_min_rad, theta_max_rad); }
 };
 
+// Whether the exitant grid of these steps over the zone can hold the order's functions: as
+// MakeExitantGrid, and at least order + 1 rows and 2 order + 1 columns (fewer cell averages than
+// a band's functions vary over cannot tell them apart). Throws InputError naming the steps, the
+// counts and --grid. Run before anything is captured or written.
+void CheckExitantGrid(const Zone& zone, int order, double theta_step_deg, double phi_step_deg);
+
 // Integrals of each Z_j (order `order`) over each grid cell: cells x functions.
 Eigen::MatrixXd CellIntegrals(const ExitantGrid& grid, const ZonalBasis& zb);
 // Fills data.tensor and data.tensor_variance from data.functions (cells independent). Throws

@@ -45,6 +45,11 @@ BrdfInput ResolveBrdfInput(const std::string& input) {
   if (input.rfind("file:", 0) == 0 && fs::is_regular_file(input.substr(5), error)) {
     return FromFile(input.substr(5));
   }
+  if (input.rfind("file:", 0) == 0 && fs::is_directory(input.substr(5), error)) {
+    throw InputError("INPUT '" + input + "': " + input.substr(5) +
+                     " is a folder; file: takes a MERL .binary or a network .json file (give a "
+                     "session folder without file:)");
+  }
   BrdfInput in;
   try {
     in.brdf = MakeBrdf(input);

@@ -17,6 +17,13 @@ nlohmann::json CaptureJobReport(const CaptureJobResult& r, double device_time_s)
   j["frames"] = r.plan.frame_count();
   j["frames_captured"] = r.capture.frames_captured;
   j["frames_reused"] = r.capture.frames_reused;
+  // What a resume did not trust or repaired, and where --force-new moved the folder's contents.
+  if (r.capture.journal_lines_rejected > 0) {
+    j["journal_lines_rejected"] = r.capture.journal_lines_rejected;
+    j["first_rejection"] = r.capture.first_rejection;
+  }
+  if (r.repairs.any()) j["repairs"] = r.repairs.Summary();
+  if (!r.moved_aside.empty()) j["moved_aside"] = r.moved_aside;
   j["exposures_us"] = r.plan.exposures_us;
   j["capture_time_model_s"] = device_time_s;
   j["capture_time_predicted_s"] = r.predicted_capture_time_s;
@@ -72,6 +79,21 @@ std::string FormatCaptureSummary(const nlohmann::json& j) {
   std::snprintf(buf, sizeof(buf), "  capture time on the rig: %.1f s (predicted %.1f s)\n",
                 j["capture_time_model_s"].get<double>(), j["capture_time_predicted_s"].get<double>());
   out += buf;
+  if (j.value("frames_reused", 0) > 0) {
+    std::snprintf(buf, sizeof(buf), "  resumed: %d frames kept from earlier runs, %d captured\n",
+                  j.value("frames_reused", 0), j.value("frames_captured", 0));
+    out += buf;
+  }
+  if (j.contains("journal_lines_rejected")) {
+    out += "  not trusted: " + std::to_string(j["journal_lines_rejected"].get<int>()) +
+           " journal line(s), captured again (first: " + j.value("first_rejection", std::string()) +
+           ")\n";
+  }
+  if (j.contains("repairs")) out += "  repaired: " + j["repairs"].get<std::string>() + "\n";
+  if (j.contains("moved_aside")) {
+    out += "  the folder's earlier contents were moved to " + j["moved_aside"].get<std::string>() +
+           "\n";
+  }
   if (j.contains("adaptive")) {
     const nlohmann::json& a = j["adaptive"];
     std::snprintf(buf, sizeof(buf), "  adaptive: order %d of at most %d (%s), predicted error %.3g%%\n",

@@ -17,10 +17,12 @@
 #include <ImfMultiPartInputFile.h>
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
+#include <ImfStdIO.h>
 
 #include "acquisition/hdr.h"
 #include "acquisition/session.h"
 #include "acquisition/zonal.h"
+#include "basis/atomic_file.h"
 #include "basis/conditioning.h"
 #include "basis/conversion.h"
 #include "basis/data_path.h"
@@ -256,33 +258,37 @@ void CopyExrWithValue(const std::string& from, const std::string& to, const std:
   Imf::MultiPartInputFile in(from.c_str());
   std::vector<Imf::Header> headers;
   for (int i = 0; i < in.parts(); ++i) headers.push_back(in.header(i));
-  Imf::MultiPartOutputFile out(to.c_str(), headers.data(), static_cast<int>(headers.size()));
-  for (int i = 0; i < in.parts(); ++i) {
-    const Imath::Box2i w = headers[i].dataWindow();
-    const int width = w.max.x - w.min.x + 1, height = w.max.y - w.min.y + 1;
-    std::vector<std::vector<float>> storage;
-    storage.reserve(256);
-    Imf::FrameBuffer fb;
-    std::vector<std::string> names;
-    for (auto c = headers[i].channels().begin(); c != headers[i].channels().end(); ++c) {
-      storage.emplace_back(static_cast<size_t>(width) * height);
-      names.push_back(c.name());
-      char* base = reinterpret_cast<char*>(storage.back().data()) -
-                   (static_cast<ptrdiff_t>(w.min.y) * width + w.min.x) * sizeof(float);
-      fb.insert(c.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * width));
+  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
+  {
+    Imf::MultiPartOutputFile out(stream, headers.data(), static_cast<int>(headers.size()));
+    for (int i = 0; i < in.parts(); ++i) {
+      const Imath::Box2i w = headers[i].dataWindow();
+      const int width = w.max.x - w.min.x + 1, height = w.max.y - w.min.y + 1;
+      std::vector<std::vector<float>> storage;
+      storage.reserve(256);
+      Imf::FrameBuffer fb;
+      std::vector<std::string> names;
+      for (auto c = headers[i].channels().begin(); c != headers[i].channels().end(); ++c) {
+        storage.emplace_back(static_cast<size_t>(width) * height);
+        names.push_back(c.name());
+        char* base = reinterpret_cast<char*>(storage.back().data()) -
+                     (static_cast<ptrdiff_t>(w.min.y) * width + w.min.x) * sizeof(float);
+        fb.insert(c.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * width));
+      }
+      Imf::InputPart ip(in, i);
+      ip.setFrameBuffer(fb);
+      ip.readPixels(w.min.y, w.max.y);
+      if (headers[i].hasName() && headers[i].name() == part) {
+        const auto it = std::find(names.begin(), names.end(), channel);
+        Check(it != names.end(), "no channel " + channel + " in part " + part);
+        storage[it - names.begin()].at(index) = value;
+      }
+      Imf::OutputPart op(out, i);
+      op.setFrameBuffer(fb);
+      op.writePixels(height);
     }
-    Imf::InputPart ip(in, i);
-    ip.setFrameBuffer(fb);
-    ip.readPixels(w.min.y, w.max.y);
-    if (headers[i].hasName() && headers[i].name() == part) {
-      const auto it = std::find(names.begin(), names.end(), channel);
-      Check(it != names.end(), "no channel " + channel + " in part " + part);
-      storage[it - names.begin()].at(index) = value;
-    }
-    Imf::OutputPart op(out, i);
-    op.setFrameBuffer(fb);
-    op.writePixels(height);
   }
+  WriteFileAtomically(to, stream.str());
 }
 
 std::string RunZonalWriteNan(const std::string& dir) {
@@ -379,12 +385,12 @@ std::string RunAllZeroSession(const std::string& dir) {
     d.tensor[ch].setZero();
     d.tensor_variance[ch].setZero();
   }
-  WriteZonalExr(SessionPath(session, kZonalFile), d);
   SessionFolder::Create(session, {{"material", "lambert:0"},
                                   {"kind", "simulated"},
                                   {"rig", {{"name", "stress"}}},
                                   {"seed", 1},
                                   {"calibration", "nominal"}});
+  WriteZonalExr(SessionPath(session, kZonalFile), d);
   const ZonalTensor data = ToZonalTensor(ReadZonalExr(SessionPath(session, kZonalFile)));
   std::string detail;
   try {

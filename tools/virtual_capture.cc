@@ -133,6 +133,8 @@ void GigEFakeOptions::Validate() const {
 VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
   const auto start = std::chrono::steady_clock::now();
   args.gige.Validate();
+  // Options, the folder's state and its writer, before the (slow) virtual rig is built.
+  CheckCaptureJob(args.job);
   if (args.job.resume) {
     // The session decides what is being captured.
     const nlohmann::json s = SessionFolder::Open(args.job.out_dir).session();
@@ -154,10 +156,6 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     if (args.calibration_folder.empty()) args.calibration_folder = s.value("calibration_folder", std::string());
   }
   if (args.material_spec.empty()) throw InputError("no --material given for the virtual rig");
-  if (!args.job.resume && SessionFolder::Exists(args.job.out_dir)) {
-    throw InputError("folder " + args.job.out_dir +
-                     " already holds a session; resume it (--resume) or choose another --out");
-  }
   VirtualCaptureOutcome out;
   out.material = MakeBrdf(args.material_spec);
   VirtualRig::Options vr;

@@ -3,6 +3,7 @@
 // damaged frames, and sessions that must not be overwritten.
 #include "acquisition/capture_job.h"
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -18,6 +19,7 @@
 #include "simulate/virtual_rig.h"
 #include "tests/acquisition/acquisition_test_util.h"
 #include "tests/rig/rig_test_util.h"
+#include "tests/test_files.h"
 
 namespace zbrdf {
 namespace {
@@ -236,6 +238,134 @@ TEST(CaptureJob, InterruptedFailedAndDamagedSessionsResumeToIdenticalFrames) {
   }
   fs::remove_all(reference_dir);
   fs::remove_all(dir);
+}
+
+// A small job: order 1, one fixed exposure (8 frames).
+CaptureJobOptions SmallJob(const std::string& dir, double shortest_exposure_us = 40000) {
+  CaptureJobOptions o = Job(dir, 1);
+  o.exposures = 1;
+  o.shortest_exposure_us = shortest_exposure_us;
+  o.processing.write_hdr_images = false;
+  return o;
+}
+
+void CopySessionFiles(const std::string& from, const std::string& to) {
+  fs::create_directories(to);
+  fs::copy(from, to, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+}
+
+// Issue 15, cases 1 and 2, and the plan check of resumed sessions, on one rig.
+TEST(CaptureJob, ASessionIsWhatItsSessionJsonAndJournalSay) {
+  SimulatedRig setup("lambertian:0.5", /*noise=*/true);
+  const std::string a = TempDir("a");
+  const CaptureJobResult first = setup.Run(SmallJob(a));
+  ASSERT_TRUE(first.complete);
+  const std::map<int, std::string> frames_a = Checksums(a);
+  ASSERT_EQ(frames_a.size(), 8u);
+
+  // Case 1: a folder with a journal and frames but no session.json is refused (before anything
+  // is metered or written), naming what is there; --force-new moves it aside and starts afresh.
+  const std::string orphan = TempDir("orphan");
+  CopySessionFiles(a, orphan);
+  fs::remove(orphan + "/session.json");
+  try {
+    setup.Run(SmallJob(orphan));
+    FAIL() << "frames of a folder without session.json were trusted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("holds no session.json (found frames/ (8 files), journal.jsonl"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("--force-new"), std::string::npos) << what;
+  }
+  EXPECT_EQ(testing::ReadFile(orphan + "/journal.jsonl"), testing::ReadFile(a + "/journal.jsonl"));
+  CaptureJobOptions force = SmallJob(orphan);
+  force.force_new = true;
+  const CaptureJobResult fresh = setup.Run(force);
+  ASSERT_TRUE(fresh.complete);
+  EXPECT_EQ(fresh.capture.frames_reused, 0);
+  EXPECT_EQ(fresh.capture.frames_captured, 8);
+  ASSERT_FALSE(fresh.moved_aside.empty());
+  EXPECT_EQ(testing::ReadFile(fresh.moved_aside + "/journal.jsonl"),
+            testing::ReadFile(a + "/journal.jsonl"))
+      << "moved aside whole, not deleted";
+  CaptureJobOptions both = SmallJob(orphan);
+  both.force_new = both.resume = true;
+  EXPECT_THROW(setup.Run(both), InvalidOptions);
+
+  // A resumed session checks every journal line against its own id and plan: session b has
+  // another shortest exposure, and a's lines (with a's id, or without an id as earlier versions
+  // wrote them) are not its frames.
+  const std::string b = TempDir("b");
+  {
+    std::atomic<bool> stop{true};  // session.json only
+    CaptureJobOptions job = SmallJob(b, 30000);
+    job.interrupt = &stop;
+    ASSERT_FALSE(setup.Run(job).complete);
+  }
+  for (const bool strip_ids : {false, true}) {
+    fs::remove_all(b + "/frames");
+    fs::copy(a + "/frames", b + "/frames", fs::copy_options::recursive);
+    std::string journal;
+    for (JournalEntry e : SessionFolder::Open(a).ReadJournal()) {
+      if (strip_ids) e.session_id.clear();
+      journal += e.ToLine();
+    }
+    testing::WriteFile(b + "/journal.jsonl", journal);
+    CaptureJobOptions resume = SmallJob(b, 30000);
+    resume.resume = true;
+    const CaptureJobResult r = setup.Run(resume);
+    ASSERT_TRUE(r.complete);
+    EXPECT_EQ(r.capture.frames_reused, 0) << "strip_ids " << strip_ids;
+    EXPECT_EQ(r.capture.frames_captured, 8);
+    EXPECT_EQ(r.capture.journal_lines_rejected, 8);
+    EXPECT_NE(r.capture.first_rejection.find(strip_ids ? "requested 40000 us; the plan says 30000"
+                                                       : "belongs to session"),
+              std::string::npos)
+        << r.capture.first_rejection;
+    for (const JournalEntry& e : SessionFolder::Open(b).ReadJournal()) {
+      EXPECT_EQ(e.exposure_us_requested, 30000) << e.index;
+    }
+  }
+
+  // Case 2: a journal line torn by a full disk. Resuming cuts it away (keeping it) before
+  // appending, takes that frame again, and processing finds every frame.
+  const std::string torn = TempDir("torn");
+  CopySessionFiles(a, torn);
+  {
+    std::string journal = testing::ReadFile(torn + "/journal.jsonl");
+    size_t cut = 0;
+    for (int line = 0; line < 5; ++line) cut = journal.find('\n', cut) + 1;
+    const size_t next = journal.find('\n', cut);
+    testing::WriteFile(torn + "/journal.jsonl", journal.substr(0, cut + (next - cut) / 2));
+  }
+  CaptureJobOptions resume = SmallJob(torn);
+  resume.resume = true;
+  const CaptureJobResult r = setup.Run(resume);
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.capture.frames_captured, 3);
+  EXPECT_GT(r.repairs.torn_journal_bytes, 0u);
+  EXPECT_TRUE(fs::exists(torn + "/journal.jsonl.torn-1"));
+  EXPECT_EQ(Checksums(torn), frames_a);
+  const ProcessResult processed =
+      ProcessSession(torn, setup.calibration, SmallJob(torn).processing, testing::TestCacheDir());
+  EXPECT_EQ(processed.plan.frame_count(), 8);
+
+  // Options are checked before anything is written: a grid too coarse for the order is refused
+  // before the folder exists (it used to fail after the capture, and the rerun was refused).
+  CaptureJobOptions coarse = Job(TempDir("coarse"), 6);
+  coarse.processing.theta_step_deg = 10;
+  try {
+    setup.Run(coarse);
+    FAIL() << "a 10 deg grid cannot hold order 6 on the 44 deg zone";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has 5 rows and 180 columns on the zone; order 6 needs "
+                                         "at least 7 and 13: choose smaller --grid cells"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(coarse.out_dir));
+  for (const std::string& dir : {a, orphan, fresh.moved_aside, b, torn}) fs::remove_all(dir);
 }
 
 }  // namespace

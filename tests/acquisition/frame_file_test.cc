@@ -3,11 +3,15 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <tiffio.h>
+#include <tiffio.hxx>
 
 #include "basis/error.h"
+#include "basis/hash.h"
 
 namespace zbrdf {
 namespace {
@@ -98,6 +102,93 @@ TEST(FrameFile, GarbageTruncationAndWrongSizeAreInputErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("f000007.tiff"), std::string::npos) << e.what();
   }
+}
+
+// A frame as versions before the samples' checksum wrote it: the same TIFF, with the
+// description "zbrdf raw frame: layout L, N significant bits, exposure E us" (libtiff directly).
+std::string EncodeLikeEarlierVersions(const Frame& f) {
+  std::ostringstream stream;
+  TIFF* tiff = TIFFStreamOpen("frame", &stream);
+  char description[160];
+  std::snprintf(description, sizeof(description),
+                "zbrdf raw frame: layout %s, %d significant bits, exposure %.3f us",
+                PixelLayoutName(f.layout).c_str(), f.bit_depth, f.exposure_us);
+  TIFFSetField(tiff, TIFFTAG_IMAGEWIDTH, static_cast<uint32_t>(f.width));
+  TIFFSetField(tiff, TIFFTAG_IMAGELENGTH, static_cast<uint32_t>(f.height));
+  TIFFSetField(tiff, TIFFTAG_BITSPERSAMPLE, 16);
+  TIFFSetField(tiff, TIFFTAG_SAMPLESPERPIXEL, 1);
+  TIFFSetField(tiff, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+  TIFFSetField(tiff, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+  TIFFSetField(tiff, TIFFTAG_COMPRESSION, COMPRESSION_ZSTD);
+  TIFFSetField(tiff, TIFFTAG_ROWSPERSTRIP, f.height);
+  TIFFSetField(tiff, TIFFTAG_IMAGEDESCRIPTION, description);
+  TIFFWriteEncodedStrip(tiff, 0, const_cast<uint16_t*>(f.data.data()),
+                        static_cast<tmsize_t>(f.data.size() * 2));
+  TIFFClose(tiff);
+  return stream.str();
+}
+
+TEST(FrameFile, EveryFrameRecordsTheChecksumOfItsSamples) {
+  // FNV-1a 64 of the samples as little-endian words: {0x6261} is the bytes "ab".
+  EXPECT_EQ(FrameSamplesChecksum({}), kFnv1a64Offset);
+  EXPECT_EQ(FrameSamplesChecksum({0x6261}), Fnv1a64("ab"));
+  const Frame f = RandomFrame(64, 48, 12, 21);
+  const std::string bytes = EncodeFrameFile(f);
+  char expected[80];
+  std::snprintf(expected, sizeof(expected), "exposure 1234.500 us, samples fnv1a64:%016llx",
+                static_cast<unsigned long long>(FrameSamplesChecksum(f.data)));
+  EXPECT_NE(bytes.find(expected), std::string::npos) << "ImageDescription records the checksum";
+}
+
+// Issue 15: "a bit flip inside a frame whose journal checksum is recomputed passes silently".
+// The file's own checksum finds it: a decoded frame is either the original or an InputError.
+TEST(FrameFile, BitFlipsInsideAFrameAreFoundFromTheFileAlone) {
+  const Frame f = RandomFrame(64, 48, 12, 15);
+  const std::string bytes = EncodeFrameFile(f);
+  std::mt19937 rng(15);  // fixed seed: 300 flips over the whole file
+  std::uniform_int_distribution<size_t> position(0, bytes.size() - 1);
+  std::uniform_int_distribution<int> bit(0, 7);
+  int rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string damaged = bytes;
+    const size_t at = position(rng);
+    damaged[at] = static_cast<char>(damaged[at] ^ (1 << bit(rng)));
+    try {
+      const std::vector<uint16_t> samples = DecodeFrameFile(damaged, 64, 48, "frame f.tiff");
+      EXPECT_EQ(samples, f.data) << "a flip at byte " << at << " of " << bytes.size()
+                                 << " gave other samples without an error";
+    } catch (const InputError& e) {
+      ++rejected;
+      EXPECT_NE(std::string(e.what()).find("frame f.tiff"), std::string::npos) << e.what();
+    }
+  }
+  // Most bytes are compressed samples (random 12-bit data barely compress); flips in unused
+  // header bytes or strip padding change nothing.
+  EXPECT_GT(rejected, 200);
+  // The description of another frame over these samples: the samples do not match it.
+  Frame other = f;
+  other.data[5] ^= 1;
+  const std::string other_bytes = EncodeFrameFile(other);
+  const size_t a = bytes.find("fnv1a64:"), b = other_bytes.find("fnv1a64:");
+  ASSERT_NE(a, std::string::npos);
+  std::string swapped = bytes;
+  swapped.replace(a, 24, other_bytes.substr(b, 24));
+  try {
+    DecodeFrameFile(swapped, 64, 48, "frame f000009.tiff");
+    FAIL() << "samples that do not match the recorded checksum were read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame f000009.tiff is damaged: its samples do not match "
+                                         "the checksum the file records"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(FrameFile, FramesOfEarlierVersionsWithoutTheChecksumStillRead) {
+  const Frame f = RandomFrame(40, 30, 12, 8);
+  const std::string old = EncodeLikeEarlierVersions(f);
+  ASSERT_EQ(old.find("fnv1a64"), std::string::npos);
+  EXPECT_EQ(DecodeFrameFile(old, 40, 30, "old frame"), f.data);
 }
 
 }  // namespace
