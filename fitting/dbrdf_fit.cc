@@ -837,12 +837,11 @@ DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
   result.statistics.iterations = iterations;
   result.statistics.termination = refine_report.termination;
   const Solution& fitted = s;
-  const Problem& final_problem = problem;
 
   // Uncertainties: ceres::Covariance at the solution (with the prior when it was applied).
   if (options_.covariance) {
     CeresBlocks blocks(s);
-    const auto ceres_problem = MakeCeresProblem(final_problem, f0_lo, f0_hi, &blocks);
+    const auto ceres_problem = MakeCeresProblem(problem, f0_lo, f0_hi, &blocks);
     const auto sd = ParameterStandardDeviations(*ceres_problem,
                                                 {{&blocks.f0, 1}, {blocks.c, 3}, {blocks.kd, 3}},
                                                 result.statistics.chi2_per_dof);
