@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -217,24 +218,31 @@ std::shared_ptr<SessionLock> SessionLock::Acquire(const std::string& dir) {
       throw FileWriteError(path, errno, 0, FreeBytes(path),
                            "run the command again (a session's writer needs its lock file)");
     }
-    // A few tries: a process probing the lock (CheckCaptureJob) holds it for an instant.
-    int locked = -1, flock_error = 0;
-    for (int attempt = 0; attempt < 10 && locked != 0; ++attempt) {
-      locked = ::flock(fd, LOCK_EX | LOCK_NB);
-      flock_error = locked == 0 ? 0 : errno;
-      if (locked != 0 && flock_error != EWOULDBLOCK) break;
-      if (locked != 0) ::usleep(5000);
+    // Busy: name the holder. Retried for a moment while nobody can be named: a process probing
+    // the lock (CheckCaptureJob) holds it for an instant, and a writer that has just left or
+    // just arrived (not yet written its PID) is not the one to name.
+    std::string holder;
+    int flock_error = 0;
+    for (int attempt = 0; attempt < 10; ++attempt) {
+      if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {
+        flock_error = 0;
+        break;
+      }
+      flock_error = errno;
+      if (flock_error != EWOULDBLOCK) break;
+      holder = Holder(dir);
+      if (!holder.empty()) break;
+      ::usleep(5000);
     }
-    if (locked != 0) {
+    if (flock_error != 0) {
       ::close(fd);
       if (flock_error != EWOULDBLOCK) {
         throw InputError("cannot lock session " + dir + " (" + std::strerror(flock_error) +
                          "); its file system may not support flock(2)");
       }
-      std::string holder = Holder(dir);
       long pid = 0;
       std::sscanf(holder.c_str(), "pid %ld", &pid);
-      if (holder.empty()) holder = "another process (it has not written its PID yet)";
+      if (holder.empty()) holder = "another process";
       throw SessionBusyError("session " + dir + " is being written by " + holder +
                                  "; one process writes a session at a time: wait for it to "
                                  "finish (or stop it), then run this command again",
@@ -275,12 +283,19 @@ std::string SessionLock::Holder(const std::string& dir) {
   }
   char text[512];
   std::string holder;
-  // The holder writes its line right after locking: give it a moment.
-  for (int attempt = 0; attempt < 20 && holder.empty(); ++attempt) {
+  // The holder writes its line right after locking: until then the file holds the previous
+  // writer's, whose process is gone. Give it a moment.
+  for (int attempt = 0; attempt < 20; ++attempt) {
     const ssize_t n = ::pread(fd, text, sizeof(text) - 1, 0);
-    if (n > 0) holder.assign(text, static_cast<size_t>(n));
+    holder = n > 0 ? std::string(text, static_cast<size_t>(n)) : std::string();
     while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
-    if (holder.empty()) ::usleep(5000);
+    long pid = 0;
+    if (std::sscanf(holder.c_str(), "pid %ld", &pid) == 1 && pid > 0 &&
+        (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) {
+      break;  // a running process: the holder
+    }
+    holder.clear();
+    ::usleep(5000);
   }
   ::close(fd);
   return holder;

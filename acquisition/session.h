@@ -93,7 +93,8 @@ class SessionLock {
   // the lock file cannot be created.
   static std::shared_ptr<SessionLock> Acquire(const std::string& dir);
   // Who holds dir's lock now ("pid 1234: zbrdf process sessions/x, since 2026-11-26T10:24:35Z"),
-  // or "" if nobody does. Never waits.
+  // or "" if nobody does (or the holder cannot be named). Never waits for the lock; waits at most
+  // 0.1 s for a writer that has just taken it to write its PID.
   static std::string Holder(const std::string& dir);
   ~SessionLock();
   SessionLock(const SessionLock&) = delete;
