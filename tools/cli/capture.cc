@@ -1,12 +1,14 @@
 // zbrdf capture: a capture session on a rig: hardware devices (--hardware) or the virtual rig
 // (--material), processed into zonal.exr. Interrupted sessions resume from their journal.
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
 #include "acquisition/capture_job.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "calibration/calibration_data.h"
 #include "drivers/hardware_rig.h"
@@ -28,19 +30,32 @@ int RunCapture(const std::vector<std::string>& argv) {
                  "journals each frame, merges HDR and writes zonal.exr. With --hardware the\n"
                  "camera and projector of a hardware rig file are used; with --material the\n"
                  "virtual rig stands in for them. Ctrl-C stops after the frame in flight;\n"
-                 "--resume continues where the journal ends.");
+                 "--resume continues where the journal ends. One process writes a session at a\n"
+                 "time: a second capture, resume or process of it is refused, naming the first's\n"
+                 "PID. Every option and the folder are checked before anything is written.");
   cl.Option("rig", "FILE", "rig description (optics, sensor, timing), e.g. rig/rigs/thesis.yaml")
-      .Option("out", "DIR", "session folder (created; never overwritten)")
-      .Option("hardware", "FILE", "hardware rig file: camera, projector, sync (docs/hardware-rig.md)")
+      .Option("out", "DIR",
+              "session folder: absent or empty (a folder holding anything else is "
+              "refused); never overwritten")
+      .Option("hardware", "FILE",
+              "hardware rig file: camera, projector, sync (docs/hardware-rig.md)")
       .Option("material", "SPEC", "capture this material on the virtual rig instead of hardware")
       .Option("preset", "P", "virtual rig: fast or full", "full")
       .Option("seed", "N", "virtual rig: seed of noise and integration", "1")
-      .Option("calibration", "DIR", "calibration folder (zbrdf calibrate) for patterns and processing")
-      .Option("faults", "FILE", "virtual rig: YAML of rig fields that differ from the design as built")
-      .Flag("gige-fake", "virtual rig: grab its frames through an Aravis GigE Vision fake camera on "
-                         "127.0.0.1 and the real camera driver (needs port 3956 free)")
+      .Option("calibration", "DIR",
+              "calibration folder (zbrdf calibrate) for patterns and processing")
+      .Option("faults", "FILE",
+              "virtual rig: YAML of rig fields that differ from the design as built")
+      .Flag("gige-fake",
+            "virtual rig: grab its frames through an Aravis GigE Vision fake camera on "
+            "127.0.0.1 and the real camera driver (needs port 3956 free)")
       .Option("lost-packets", "R", "with --gige-fake: probability the fake drops each packet", "0")
-      .Flag("resume", "continue the interrupted session in --out")
+      .Flag("resume",
+            "continue the interrupted session in --out (a torn journal line is cut "
+            "away, keeping a copy; frames of another plan or session are taken again)")
+      .Flag("force-new",
+            "--out is not empty: move it aside to DIR.before-<time> (nothing is "
+            "deleted) and start a new session there")
       .Flag("json", "print a JSON report instead of the summary");
   AddPlanFlags(cl);
   cl.Epilog(
@@ -57,7 +72,10 @@ int RunCapture(const std::vector<std::string>& argv) {
   CaptureJobOptions job;
   job.out_dir = cl.Get("out");
   job.resume = cl.Has("resume");
+  job.force_new = cl.Has("force-new");
   ReadPlanFlags(cl, &job);
+  // Options, the folder and its writer are checked before any device is opened or file written.
+  CheckCaptureJob(job);
   TerminalProgress progress(false);
   job.progress = progress.Callback();
   job.interrupt = InstallInterruptHandler();
@@ -81,7 +99,12 @@ int RunCapture(const std::vector<std::string>& argv) {
         LoadRigCalibration(rig, calibration_folder, DefaultCacheDir(), job.progress);
     job.settle_us = 1e3 * (hardware.sync.mode == SyncMode::kHardware ? hardware.sync.hardware_settle_ms
                                                                      : hardware.sync.software_settle_ms);
-    job.session_extra = {{"kind", "hardware"}, {"hardware_rig", cl.Get("hardware")}};
+    // "created" makes the session id (session.json) of two sessions of one rig and plan differ.
+    char created[32];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(created, sizeof(created), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    job.session_extra = {
+        {"kind", "hardware"}, {"hardware_rig", cl.Get("hardware")}, {"created", created}};
     if (!calibration_folder.empty()) {
       job.session_extra["calibration_folder"] =
           std::filesystem::absolute(calibration_folder).lexically_normal().string();
@@ -127,7 +150,13 @@ int RunCapture(const std::vector<std::string>& argv) {
                            {"hdr", result.processing.hdr_seconds},
                            {"zonal", result.processing.zonal_seconds},
                            {"hdr_images", result.processing.image_seconds}};
-  WriteSessionReport(job.out_dir, report);
+  try {
+    WriteSessionReport(job.out_dir, report);  // still under the session's lock (result.lock)
+  } catch (const FileWriteError& e) {
+    throw e.WithNextStep(
+        "continue with the same command plus --resume (the frames and zonal.exr "
+        "are complete)");
+  }
   if (cl.Has("json")) {
     std::cout << report.dump(2) << "\n";
   } else {

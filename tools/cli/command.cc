@@ -159,6 +159,21 @@ std::vector<double> CommandLine::GetDoubles(const std::string& name, size_t coun
   return out;
 }
 
+std::vector<std::string> CommandLine::GetList(const std::string& name) const {
+  std::vector<std::string> out;
+  std::stringstream ss(Get(name));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const size_t b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
+    if (b == std::string::npos) {
+      throw InputError("--" + name + " has an empty item (got '" + Get(name) +
+                       "'); separate names by single commas");
+    }
+    out.push_back(item.substr(b, e - b + 1));
+  }
+  return out;
+}
+
 std::string CommandLine::Positional(size_t index) const {
   if (index >= positional_values_.size()) {
     throw InputError("missing " + positionals_.at(index).first);
@@ -199,6 +214,51 @@ std::map<std::string, Command>& CommandTable() {
 
 CommandRegistration::CommandRegistration(Command command) {
   CommandTable()[command.name] = std::move(command);
+}
+
+namespace {
+
+void PrintUsage() {
+  std::cout << "usage: zbrdf <command> [options]   (zbrdf <command> --help for each)\n\n"
+               "Measure, simulate, fit and export BRDFs captured with zonal basis "
+               "illumination.\n\ncommands:\n";
+  for (const auto& [name, command] : CommandTable()) {
+    std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ')
+              << command.summary << "\n";
+  }
+}
+
+}  // namespace
+
+int RunZbrdf(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
+      std::string(argv[1]) == "help") {
+    PrintUsage();
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string name = argv[1];
+  auto& table = CommandTable();
+  auto it = table.find(name);
+  if (it == table.end()) {
+    std::cerr << "zbrdf: unknown command '" << name << "' (zbrdf --help lists them)\n";
+    return 2;
+  }
+  std::vector<std::string> args(argv + 2, argv + argc);
+  try {
+    return it->second.run(args);
+  } catch (const InputError& e) {
+    std::cerr << "zbrdf " << name << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const DeviceError& e) {
+    std::cerr << "zbrdf " << name << ": device error: " << e.what() << "\n";
+    return 3;
+  } catch (const NumericalError& e) {
+    std::cerr << "zbrdf " << name << ": numerical failure: " << e.what() << "\n";
+    return 4;
+  } catch (const std::exception& e) {
+    std::cerr << "zbrdf " << name << ": error: " << e.what() << "\n";
+    return 1;
+  }
 }
 
 }  // namespace zbrdf::cli

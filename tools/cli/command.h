@@ -38,6 +38,8 @@ class CommandLine {
   int GetInt(const std::string& name, int min, int max) const;
   // "a,b" -> {a, b} with exactly `count` numbers.
   std::vector<double> GetDoubles(const std::string& name, size_t count) const;
+  // "a,b" -> {"a", "b"}, items trimmed; an empty item is an error naming the flag.
+  std::vector<std::string> GetList(const std::string& name) const;
   std::string Positional(size_t index) const;
   size_t NumPositionals() const { return positional_values_.size(); }
 
@@ -68,5 +70,11 @@ std::map<std::string, Command>& CommandTable();
 struct CommandRegistration {
   explicit CommandRegistration(Command command);
 };
+
+// zbrdf's main(): runs the subcommand argv[1] with the rest of argv, prints errors, and returns
+// the exit status: the command's own (0 done, 130 interrupted), 2 for bad input (flags, files,
+// sessions; also a full disk or a session another process writes), 3 for a device error, 4 for a
+// numerical failure, 1 otherwise.
+int RunZbrdf(int argc, char** argv);
 
 }  // namespace zbrdf::cli

@@ -20,10 +20,17 @@ std::string ReadAll(const std::string& path) {
   if (path == "-") {
     return std::string(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
   }
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError("--pairs " + path +
+                     " is a folder; give a file of direction pairs (or - for "
+                     "standard input)");
+  }
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError("--pairs " + path + ": cannot open it; check the path");
   std::ostringstream buffer;
   buffer << file.rdbuf();
+  if (file.bad()) throw InputError("--pairs " + path + ": cannot read it; check the file");
   return buffer.str();
 }
 
@@ -35,8 +42,8 @@ int RunEval(const std::vector<std::string>& args) {
                  "light, w_o\ntoward the viewer), separated by spaces, tabs or a comma; '#' starts "
                  "a comment.\nWrites per pair the four angles and f_r R G B in 1/sr (not "
                  "multiplied by any cosine),\nevery number with full double precision (%.17g). A "
-                 "pair below the horizon gives 0.\nA malformed line is an error naming its line "
-                 "number, and then nothing is written.");
+                 "pair below the horizon gives 0.\nA malformed line, or an input without any "
+                 "pair, is an error (naming the line),\nand then nothing is written.");
   cl.Positional("INPUT", "session folder, file or material spec (see below)")
       .Option("pairs", "FILE", "direction pairs, or - for standard input", "-")
       .Option("out", "FILE", "where to write, or - for standard output", "-")
@@ -62,8 +69,13 @@ int RunEval(const std::vector<std::string>& args) {
   const BrdfInput input = ResolveBrdfInput(cl.Positional(0));
   const std::string pairs_path = cl.Get("pairs");
   const std::string text = ReadAll(pairs_path);
-  const std::vector<DirectionPair> pairs =
-      ParseDirectionPairs(text, pairs_path == "-" ? "standard input" : pairs_path);
+  const std::string source = pairs_path == "-" ? "standard input" : pairs_path;
+  const std::vector<DirectionPair> pairs = ParseDirectionPairs(text, source);
+  if (pairs.empty()) {
+    throw InputError(source +
+                     " holds no direction pairs (one 'theta_i phi_i theta_o phi_o' per "
+                     "line); nothing was written");
+  }
   const std::vector<Rgb> f = EvaluatePairs(*input.brdf, pairs);
   const std::string result =
       FormatEvaluations(pairs, f, format == "json" ? EvalFormat::kJson : EvalFormat::kCsv,

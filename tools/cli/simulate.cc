@@ -8,6 +8,7 @@
 
 #include "acquisition/capture_job.h"
 #include "acquisition/ground_truth.h"
+#include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "brdf/material_spec.h"
 #include "tools/cli/command.h"
@@ -30,17 +31,27 @@ int RunSimulate(const std::vector<std::string>& argv) {
                  "Simulates a capture session on the virtual rig and processes it end to end:\n"
                  "meters the exposure, plans the patterns, renders every frame through the rig's\n"
                  "optics and sensor, merges HDR, extracts the zonal coefficients (zonal.exr) and\n"
-                 "compares them with the material's true coefficients.");
+                 "compares them with the material's true coefficients. Every option and the\n"
+                 "folder are checked before anything is written; one process writes a session\n"
+                 "at a time.");
   cl.Option("rig", "FILE", "rig description, e.g. rig/rigs/thesis.yaml")
       .Option("material", "SPEC", "the sample, e.g. merl:blue-acrylic, lambert:0.18, ggx:alpha=0.2")
-      .Option("out", "DIR", "session folder to create")
-      .Option("preset", "P", "fast (1/4 resolution, for tests) or full (the rig as described)", "full")
+      .Option("out", "DIR", "session folder to create: absent or empty (anything else is refused)")
+      .Option("preset", "P", "fast (1/4 resolution, for tests) or full (the rig as described)",
+              "full")
       .Option("seed", "N", "seed of the simulated noise and integration", "1")
       .Flag("no-noise", "turn the sensor's shot and read noise off")
-      .Option("calibration", "DIR", "calibration folder (zbrdf calibrate) for patterns and processing")
-      .Option("faults", "FILE", "YAML of rig fields that differ from the design as built "
-                                "(misalignment, projector gamma, ...; docs/calibration.md)")
-      .Flag("resume", "continue an interrupted session in --out")
+      .Option("calibration", "DIR",
+              "calibration folder (zbrdf calibrate) for patterns and processing")
+      .Option("faults", "FILE",
+              "YAML of rig fields that differ from the design as built "
+              "(misalignment, projector gamma, ...; docs/calibration.md)")
+      .Flag("resume",
+            "continue an interrupted session in --out (a torn journal line is cut "
+            "away, keeping a copy; frames of another plan or session are taken again)")
+      .Flag("force-new",
+            "--out is not empty: move it aside to DIR.before-<time> (nothing is "
+            "deleted) and start a new session there")
       .Option("truth-samples", "N", "samples per exitant point for the true coefficients", "4096")
       .Flag("json", "print a JSON report instead of the summary");
   AddPlanFlags(cl);
@@ -66,6 +77,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
   CaptureJobOptions& options = args.job;
   options.out_dir = cl.Get("out");
   options.resume = cl.Has("resume");
+  options.force_new = cl.Has("force-new");
   ReadPlanFlags(cl, &options);
   const int truth_samples = cl.GetInt("truth-samples", 16, 1 << 20);
   const bool json = cl.Has("json");
@@ -110,7 +122,13 @@ int RunSimulate(const std::vector<std::string>& argv) {
       {"hdr_images", result.processing.image_seconds},
       {"truth", Seconds(t_capture, t_truth)},
       {"total", Seconds(t0, t_truth)}};
-  WriteSessionReport(out_dir, report);
+  try {
+    WriteSessionReport(out_dir, report);  // still under the session's lock (result.lock)
+  } catch (const FileWriteError& e) {
+    throw e.WithNextStep(
+        "continue with the same command plus --resume (the frames and zonal.exr "
+        "are complete)");
+  }
   if (json) {
     std::cout << report.dump(2) << "\n";
   } else {
