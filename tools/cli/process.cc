@@ -24,8 +24,9 @@ namespace {
 int RunProcess(const std::vector<std::string>& argv) {
   CommandLine cl(
       "process",
-      "Re-processes a session from its frames on disk: verifies every frame against\n"
-      "its journal checksum, merges HDR per pattern, extracts the zonal coefficients and\n"
+      "Re-processes a session from its frames on disk: checks every journal line against\n"
+      "the session's plan and every frame against its journal checksum and its own,\n"
+      "merges HDR per pattern, extracts the zonal coefficients and\n"
       "writes zonal.exr and the processing part of report.json. The calibration is the\n"
       "session's own (session.json) unless --calibration names another. Every file is\n"
       "replaced whole (a kill or a full disk leaves the previous zonal.exr); one process\n"
