@@ -76,7 +76,9 @@ MerlBin MerlBinOf(const Vec3& w_i, const Vec3& w_o) {
 MerlTable ReadMerlBinary(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file || !std::filesystem::is_regular_file(path)) {
-    throw InputError("MERL file " + path + ": not a readable file (a folder?); check the path");
+    throw InputError("MERL file " + path + ": cannot open it" +
+                     (std::filesystem::is_directory(path) ? " (a folder)" : "") +
+                     "; check the path and permissions");
   }
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)),
                                    std::istreambuf_iterator<char>());

@@ -281,7 +281,7 @@ TEST(CrashHarness, CapturesKilledOrStarvedAnywhereResumeToIdenticalSessions) {
   const std::map<std::string, std::string> expected = Files(reference, kRunDependent);
 
   std::mt19937 rng(15);
-  const int cases = Cases(56);
+  const int cases = Cases(49);
   int resumed = 0, torn_lines = 0, temporaries = 0;
   for (int c = 0; c < cases; ++c) {
     fs::remove_all(dir);
@@ -324,7 +324,7 @@ TEST(CrashHarness, CapturesKilledOrStarvedAnywhereResumeToIdenticalSessions) {
     EXPECT_TRUE(fs::exists(dir + "/" + kReportFile)) << what;
   }
   // The harness reached the repairs: journals torn by a kill, temporaries of killed runs.
-  if (cases >= 56) {
+  if (cases >= 49) {
     EXPECT_GT(torn_lines, 0);
     EXPECT_GT(temporaries, 0);
   }
@@ -395,7 +395,7 @@ TEST(CrashHarness, ProcessingKilledOrStarvedAnywhereLeavesThePreviousFilesAndRed
   ASSERT_NE(before.at(kZonalFile), after.at(kZonalFile));
 
   std::mt19937 rng(16);
-  const int forked = Cases(45), binary = Cases(8);
+  const int forked = Cases(40), binary = Cases(8);
   for (int c = 0; c < forked + binary; ++c) {
     // Back to the earlier state: the coarse zonal.exr and report.
     for (const auto& [name, bytes] : before) WriteFileAtomically(dir + "/" + name, bytes);
@@ -506,7 +506,7 @@ TEST(CrashHarness, ExportsKilledOrStarvedAnywhereLeaveWholeFilesAndRedoThem) {
     after.push_back(Files(root + "/out", {}));
   }
   std::mt19937 rng(17);
-  const int forked = Cases(100), binary = Cases(10);
+  const int forked = Cases(110), binary = Cases(10);
   for (int c = 0; c < forked + binary; ++c) {
     const size_t k = static_cast<size_t>(c) % exports.size();
     const ExportCase& e = exports[k];
