@@ -17,8 +17,10 @@
 #include "brdf/merl_table.h"
 #include "brdf/nbrdf.h"
 #include "brdf/rgl_bsdf.h"
+#include "brdf/exr_header.h"
 #include "brdf/sh_brdf.h"
 #include "brdf/sh_file.h"
+#include "brdf/tabulated_file.h"
 
 namespace zbrdf {
 namespace {
@@ -30,8 +32,10 @@ std::string Lower(std::string s) {
   return s;
 }
 
-// The zbrdf.format attribute of an OpenEXR file's first part, "" if it has none.
-std::string ExrFormat(const std::string& path) {
+}  // namespace
+
+std::string ExrFormatOf(const std::string& path) {
+  CheckExrHeaderSizes(path, path);
   try {
     Imf::MultiPartInputFile file(path.c_str());
     const auto* format = file.header(0).findTypedAttribute<Imf::StringAttribute>("zbrdf.format");
@@ -40,6 +44,8 @@ std::string ExrFormat(const std::string& path) {
     throw InputError("cannot read " + path + " as OpenEXR: " + e.what());
   }
 }
+
+namespace {
 
 // A fit-<model>.json: a material spec, as a JSON string or in a "spec", "material_spec" or
 // "material" field.
@@ -55,11 +61,15 @@ std::string SpecFromFitJson(const nlohmann::json& j) {
 
 BrdfFile FromExr(const std::string& path) {
   BrdfFile in;
-  const std::string format = ExrFormat(path);
+  const std::string format = ExrFormatOf(path);
   if (format == "zbrdf-dbrdf-v1") {
     in.brdf = ReadDBrdfFile(path);
     in.kind = "dbrdf-file";
     in.description = "D-BRDF fit " + path;
+  } else if (format == "zbrdf-tabulated-v1") {
+    in.brdf = ReadTabulatedFile(path);
+    in.kind = "tabulated-file";
+    in.description = "tabulated BRDF " + path;
   } else if (format == "zbrdf-sh-v1") {
     in.brdf = std::make_shared<ShBrdf>(ReadShFile(path), path);
     in.kind = "sh-file";
@@ -72,7 +82,7 @@ BrdfFile FromExr(const std::string& path) {
         "session folder");
   } else {
     throw InputError(path + " is not a zbrdf BRDF file (its zbrdf.format is '" + format +
-                     "'; expected zbrdf-dbrdf-v1 or zbrdf-sh-v1)");
+                     "'; expected zbrdf-dbrdf-v1, zbrdf-tabulated-v1 or zbrdf-sh-v1)");
   }
   return in;
 }

@@ -1,6 +1,7 @@
 // A BRDF from a file of any format zbrdf reads (docs/formats.md), told apart by its extension:
 //
-//   NAME.exr     a zbrdf SH file or D-BRDF file, told apart by its zbrdf.format header
+//   NAME.exr     a zbrdf SH file, D-BRDF file or tabulated BRDF (fit-prior.exr), told apart by
+//                its zbrdf.format header
 //   NAME.binary  a MERL table
 //   NAME.json    a network file ("format": "nbrdf-mlp-v1") or a fit report holding a material
 //                spec (fit-<model>.json as zbrdf fit writes it)
@@ -17,7 +18,7 @@ namespace zbrdf {
 
 struct BrdfFile {
   std::shared_ptr<const Brdf> brdf;
-  // "dbrdf-file", "sh-file", "fit-json", "merl-file", "network-file", "rgl-file",
+  // "dbrdf-file", "tabulated-file", "sh-file", "fit-json", "merl-file", "network-file", "rgl-file",
   // "brdf-explorer-file".
   std::string kind;
   std::string path;         // the file read
@@ -28,5 +29,9 @@ struct BrdfFile {
 // malformed, an OpenEXR file that holds no BRDF (zonal coefficients say how to convert them), a
 // fit report that says nothing was fitted.
 BrdfFile ReadBrdfFile(const std::string& path);
+
+// The zbrdf.format attribute of an OpenEXR file's first part ("" if it has none). Throws
+// InputError naming the file if it is not OpenEXR.
+std::string ExrFormatOf(const std::string& path);
 
 }  // namespace zbrdf

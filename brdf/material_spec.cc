@@ -11,6 +11,8 @@
 #include "basis/error.h"
 #include "brdf/ashikhmin_shirley.h"
 #include "brdf/blinn_phong.h"
+#include "brdf/brdf_file.h"
+#include "brdf/tabulated_file.h"
 #include "brdf/dbrdf.h"
 #include "brdf/ggx.h"
 #include "brdf/lambertian.h"
@@ -60,7 +62,11 @@ const std::vector<ModelInfo>& Models() {
        nullptr,
        "retro:kd=0,kr=KR,n=N  retro-reflective cosine lobe about w_o + Lambert"},
       {"merl", {}, nullptr, "merl:NAME  bundled measured material (network), names below"},
-      {"file", {}, nullptr, "file:PATH.binary  MERL table;  file:PATH.json  network file"},
+      {"rgl", {}, nullptr,
+       "rgl:NAME  bundled material of the RGL database (another device; data/materials/rgl)"},
+      {"file", {}, nullptr,
+       "file:PATH.binary  MERL table;  file:PATH.json  network file;  file:PATH.exr  zbrdf "
+       "fit or table;  file:PATH.bsdf  RGL file"},
       {"target", {}, nullptr,
        "target:white|graycard|mirror  calibration targets: 95% white, 18% gray, mirror R 0.92"},
   };
@@ -278,8 +284,12 @@ std::unique_ptr<Brdf> MakeFromFile(const std::string& spec, const std::string& p
   const std::string extension = Lower(std::filesystem::path(path).extension().string());
   if (extension == ".binary") return MerlBrdf::FromFile(path);
   if (extension == ".json") return NbrdfBrdf::FromFile(path);
+  if (extension == ".exr" && ExrFormatOf(path) == "zbrdf-tabulated-v1") {
+    return ReadTabulatedFile(path, "file:" + path);
+  }
   throw InputError("material '" + spec + "': cannot tell the format of '" + path +
-                   "' from its extension; use .binary (MERL table) or .json (network file)");
+                   "' from its extension; use .binary (MERL table), .json (network file) or a "
+                   "tabulated .exr (zbrdf fit --model prior)");
 }
 
 }  // namespace
@@ -309,6 +319,10 @@ std::unique_ptr<Brdf> MakeBrdf(const std::string& spec) {
       }
       return NbrdfBrdf::FromName(rest);
     }
+    if (model_name == "rgl") {
+      if (rest.empty()) throw InputError("rgl: needs a material name, e.g. rgl:cardboard");
+      return NbrdfBrdf::FromName(rest, "rgl");
+    }
     if (model_name == "file") return MakeFromFile(spec, rest);
     if (model_name == "target") {
       const std::string target = Lower(rest);
@@ -337,7 +351,7 @@ std::string MaterialShortName(const std::string& spec) {
   const size_t colon = spec.find(':');
   if (colon == std::string::npos) return spec;
   const std::string model = Lower(spec.substr(0, colon));
-  if (model == "merl") return spec.substr(colon + 1);
+  if (model == "merl" || model == "rgl") return spec.substr(colon + 1);
   if (model == "file") return std::filesystem::path(spec.substr(colon + 1)).stem().string();
   return model;
 }

@@ -17,7 +17,6 @@ constexpr int kInputs = 6;
 constexpr int kOutputs = 3;
 constexpr int kMaxHidden = 256;
 constexpr const char* kFormat = "nbrdf-mlp-v1";
-constexpr const char* kBundledFolder = "data/materials/merl";
 
 // Pairs per block of EvalBatch; a multiple of kTile.
 constexpr int kBlock = 64;
@@ -189,8 +188,8 @@ NbrdfNetwork ReadNbrdfNetwork(const std::string& path) {
   return network;
 }
 
-std::vector<std::string> BundledMaterialNames() {
-  const std::string folder = DataPath(kBundledFolder);
+std::vector<std::string> BundledMaterialNames(const std::string& set) {
+  const std::string folder = DataPath("data/materials/" + set);
   std::error_code error;
   std::vector<std::string> names;
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
@@ -221,8 +220,9 @@ NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec)
   sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
 }
 
-std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name) {
-  const std::vector<std::string> names = BundledMaterialNames();
+std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name, const std::string& set) {
+  const std::string folder = "data/materials/" + set;
+  const std::vector<std::string> names = BundledMaterialNames(set);
   if (!std::binary_search(names.begin(), names.end(), name)) {
     std::vector<std::pair<size_t, std::string>> close;
     for (const std::string& candidate : names) {
@@ -235,13 +235,12 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name) {
       message += (k == 0 ? "; did you mean '" : " or '") + close[k].second + "'";
     }
     message += (close.empty() ? "; the " : "? The ") + std::to_string(names.size()) +
-               " bundled materials are the NAME.json files in " + DataPath(kBundledFolder) +
-               "; use merl:NAME with one of those names";
+               " bundled materials are the NAME.json files in " + DataPath(folder) + "; use " +
+               set + ":NAME with one of those names";
     throw InputError(message);
   }
   return std::make_unique<NbrdfBrdf>(
-      ReadNbrdfNetwork(DataPath(std::string(kBundledFolder) + "/" + name + ".json")),
-      "merl:" + name);
+      ReadNbrdfNetwork(DataPath(folder + "/" + name + ".json")), set + ":" + name);
 }
 
 std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromFile(const std::string& path) {

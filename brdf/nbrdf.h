@@ -42,16 +42,20 @@ struct NbrdfNetwork {
 // Hidden layers may be 1 to 256 wide.
 NbrdfNetwork ReadNbrdfNetwork(const std::string& path);
 
-// Names of the bundled materials (data/materials/merl/NAME.json under DataRoot()), sorted.
-std::vector<std::string> BundledMaterialNames();
+// Names of a bundled set's materials (data/materials/SET/NAME.json under DataRoot()), sorted:
+// "merl" (the 100 MERL materials) or "rgl" (18 materials of the RGL database, Dupuy & Jakob
+// 2018, measured on another device: the validation set of docs/prior.md).
+std::vector<std::string> BundledMaterialNames(const std::string& set = "merl");
 
 class NbrdfBrdf final : public Brdf {
  public:
   // spec: what Spec() returns ("merl:NAME" or "file:PATH").
   NbrdfBrdf(NbrdfNetwork network, std::string spec);
-  // A bundled material, e.g. "blue-acrylic". Throws InputError for unknown names, suggesting
-  // close names and saying where the list is.
-  static std::unique_ptr<NbrdfBrdf> FromName(const std::string& name);
+  // A bundled material, e.g. "blue-acrylic" (Spec() "merl:blue-acrylic"; "rgl:cardboard" for
+  // set "rgl"). Throws InputError for unknown names, suggesting close names and saying where
+  // the list is.
+  static std::unique_ptr<NbrdfBrdf> FromName(const std::string& name,
+                                             const std::string& set = "merl");
   // A network file anywhere; Spec() is "file:" + path.
   static std::unique_ptr<NbrdfBrdf> FromFile(const std::string& path);
 

@@ -1,6 +1,7 @@
 #include "fitting/fit_error.h"
 
 #include <algorithm>
+#include <array>
 #include <iterator>
 #include <cmath>
 #include <vector>
@@ -92,6 +93,8 @@ BrdfComparison CompareBrdfs(const CosineWeightedFn& model, const CosineWeightedF
   struct Sums {
     double diff_in = 0, norm_in = 0, diff_out = 0, norm_out = 0, negative = 0, measure = 0;
     double diff_80 = 0, norm_80 = 0;
+    // Per channel: whole hemisphere, theta <= 80 deg, zone.
+    std::array<double, 3> diff_c{}, norm_c{}, diff_80_c{}, norm_80_c{}, diff_in_c{}, norm_in_c{};
   };
   const double cos80 = std::cos(DegToRad(80.0));
   std::vector<Sums> sums(w_o.size());
@@ -118,19 +121,32 @@ BrdfComparison CompareBrdfs(const CosineWeightedFn& model, const CosineWeightedF
       Sums& s = sums[o];
       for (size_t k = 0; k < w_i.size(); ++k) {
         double d2 = 0, t2 = 0;
+        const bool in = w_o[o].in_zone && zone.ContainsCosTheta(w_i[k].z);
+        const bool within_80 = wo.z >= cos80 && w_i[k].z >= cos80;
         for (int ch = 0; ch < 3; ++ch) {
           const double d = fm[k][ch] - ft[k][ch];
+          const double dd = weight[k] * d * d, tt = weight[k] * ft[k][ch] * ft[k][ch];
           d2 += d * d;
           t2 += ft[k][ch] * ft[k][ch];
+          s.diff_c[ch] += dd;
+          s.norm_c[ch] += tt;
+          if (within_80) {
+            s.diff_80_c[ch] += dd;
+            s.norm_80_c[ch] += tt;
+          }
+          if (in) {
+            s.diff_in_c[ch] += dd;
+            s.norm_in_c[ch] += tt;
+          }
         }
-        if (w_o[o].in_zone && zone.ContainsCosTheta(w_i[k].z)) {
+        if (in) {
           s.diff_in += weight[k] * d2;
           s.norm_in += weight[k] * t2;
         } else {
           s.diff_out += weight[k] * d2;
           s.norm_out += weight[k] * t2;
         }
-        if (wo.z >= cos80 && w_i[k].z >= cos80) {
+        if (within_80) {
           s.diff_80 += weight[k] * d2;
           s.norm_80 += weight[k] * t2;
         }
@@ -149,6 +165,14 @@ BrdfComparison CompareBrdfs(const CosineWeightedFn& model, const CosineWeightedF
     total.measure += s.measure;
     total.diff_80 += s.diff_80;
     total.norm_80 += s.norm_80;
+    for (int ch = 0; ch < 3; ++ch) {
+      total.diff_c[ch] += s.diff_c[ch];
+      total.norm_c[ch] += s.norm_c[ch];
+      total.diff_80_c[ch] += s.diff_80_c[ch];
+      total.norm_80_c[ch] += s.norm_80_c[ch];
+      total.diff_in_c[ch] += s.diff_in_c[ch];
+      total.norm_in_c[ch] += s.norm_in_c[ch];
+    }
   }
   auto ratio = [](double d, double n) { return n > 0 ? std::sqrt(d / n) : (d > 0 ? INFINITY : 0.0); };
   BrdfComparison c;
@@ -158,6 +182,11 @@ BrdfComparison CompareBrdfs(const CosineWeightedFn& model, const CosineWeightedF
   c.has_outside = zone.theta_min_rad() > 0 || zone.theta_max_rad() < 0.5 * M_PI;
   c.outside_zone = c.has_outside ? ratio(total.diff_out, total.norm_out) : 0.0;
   c.negative_fraction = total.measure > 0 ? total.negative / total.measure : 0.0;
+  for (int ch = 0; ch < 3; ++ch) {
+    c.cosine_l2_channel_mean += ratio(total.diff_c[ch], total.norm_c[ch]) / 3.0;
+    c.cosine_l2_80_channel_mean += ratio(total.diff_80_c[ch], total.norm_80_c[ch]) / 3.0;
+    c.in_zone_channel_mean += ratio(total.diff_in_c[ch], total.norm_in_c[ch]) / 3.0;
+  }
   return c;
 }
 

@@ -56,6 +56,9 @@ struct BrdfComparison {
   double outside_zone = 0;       // 0 when the zone is the whole hemisphere (has_outside false)
   bool has_outside = true;
   double negative_fraction = 0;
+  // The same norms taken per channel and averaged over R, G, B: Ngan et al.'s definition,
+  // which weighs a dim channel as much as a bright one (data/baselines/README.md).
+  double cosine_l2_channel_mean = 0, cosine_l2_80_channel_mean = 0, in_zone_channel_mean = 0;
 };
 
 BrdfComparison CompareBrdfs(const CosineWeightedFn& model, const CosineWeightedFn& truth,
