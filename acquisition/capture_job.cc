@@ -222,6 +222,17 @@ CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& ca
                                      ? options.shortest_exposure_us
                                      : MeterExposure(camera, projector, clock, calibration, settle_us);
     po.shortest_exposure_us = result.metered_exposure_us;
+    if (options.shortest_exposure_us <= 0) {
+      // A dark sample meters a long exposure; the bracket's longest frame must still fit the
+      // camera, so the metered bracket is shifted down to end at the camera's limit.
+      const CameraInfo limits = camera.Info();
+      const double span = std::pow(2.0, po.stops_apart * (po.exposures - 1));
+      if (limits.max_exposure_us > 0 && po.shortest_exposure_us * span > limits.max_exposure_us) {
+        po.shortest_exposure_us =
+            std::max(limits.min_exposure_us, limits.max_exposure_us / span);
+        result.metered_exposure_us = po.shortest_exposure_us;
+      }
+    }
     result.plan = MakePlan(po);
     nlohmann::json info = options.session_extra.is_object() ? options.session_extra : nlohmann::json::object();
     info["software"] = {{"name", "zbrdf"}, {"version", ZBRDF_VERSION_STRING}};

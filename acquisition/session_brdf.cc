@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 #include "acquisition/session.h"
 #include "basis/error.h"
@@ -37,12 +40,38 @@ std::vector<std::string> SessionShFiles(const std::string& dir) {
   return files;
 }
 
+// The file holding model `name`'s fit in the session.
+std::string FitFileOf(const std::string& dir, const std::string& name) {
+  if (name == "dbrdf") return SessionPath(dir, kDBrdfFitFile);
+  if (name == "prior") return SessionPath(dir, kPriorFitFile);
+  return SessionPath(dir, FitReportFileName(name));
+}
+
 std::vector<std::string> SessionBrdfFiles(const std::string& dir) {
   std::vector<std::string> files;
-  if (fs::exists(SessionPath(dir, kDBrdfFitFile))) files.push_back(SessionPath(dir, kDBrdfFitFile));
-  // The D-BRDF fit's report is not a model (the model is fit-dbrdf.exr).
+  auto add = [&files](const std::string& path) {
+    if (fs::exists(path) && std::find(files.begin(), files.end(), path) == files.end()) {
+      files.push_back(path);
+    }
+  };
+  // The recommendation of zbrdf fit --model auto first.
+  if (std::ifstream in(SessionPath(dir, kAutoFitFile)); in) {
+    const nlohmann::json choice = nlohmann::json::parse(in, nullptr, false);
+    if (choice.is_object() && choice.contains("recommended") && choice["recommended"].is_string()) {
+      const std::string name = choice["recommended"].get<std::string>();
+      if (!name.empty() && name.find('/') == std::string::npos) add(FitFileOf(dir, name));
+    }
+  }
+  add(SessionPath(dir, kPriorFitFile));
+  add(SessionPath(dir, kDBrdfFitFile));
+  // Reports that are not models: the D-BRDF's and the prior's (their models are the .exr files),
+  // and the auto choice.
   for (const std::string& fit : FilesByName(dir, kFitReportPrefix, ".json")) {
-    if (fs::path(fit).filename() != FitReportFileName("dbrdf")) files.push_back(fit);
+    const std::string name = fs::path(fit).filename().string();
+    if (name != FitReportFileName("dbrdf") && name != FitReportFileName("prior") &&
+        name != kAutoFitFile) {
+      add(fit);
+    }
   }
   const std::vector<std::string> sh = SessionShFiles(dir);
   files.insert(files.end(), sh.begin(), sh.end());
@@ -65,9 +94,10 @@ BrdfFile ReadSessionBrdf(const std::string& dir) {
              ", which can be given as INPUT itself";
     }
     throw InputError("session " + dir +
-                     " has no BRDF yet: none of fit-dbrdf.exr, fit-<model>.json, sh.exr or "
+                     " has no BRDF yet: none of fit-prior.exr, fit-dbrdf.exr, fit-<model>.json, "
+                     "sh.exr or "
                      "sh-<target>.exr. Run "
-                     "zbrdf fit (D-BRDF and analytic fits) or zbrdf convert (SH) on it first" +
+                     "zbrdf fit (--model auto recommends one) or zbrdf convert (SH) on it first" +
                      hint);
   }
   std::string skipped;

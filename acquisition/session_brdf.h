@@ -1,5 +1,6 @@
 // The BRDF a session folder holds once `zbrdf fit` or `zbrdf convert` has run on it
-// (docs/session-folder.md): its D-BRDF fit (fit-dbrdf.exr), else its analytic fit
+// (docs/session-folder.md): the fit `zbrdf fit --model auto` recommended (fit-auto.json), else
+// its prior fit (fit-prior.exr), else its D-BRDF fit (fit-dbrdf.exr), else its analytic fit
 // (fit-<model>.json, the first by name that holds a model), else its SH conversion (sh.exr, else
 // sh-<target>.exr as zbrdf convert names it).
 #pragma once

@@ -88,6 +88,53 @@ Environment Environment::Sky() {
   return env;
 }
 
+Environment Environment::Studio() {
+  constexpr int kWidth = 1024, kHeight = 512, kSuper = 4;
+  // Direction of the map's pixel centre (u, v), no rotation.
+  auto direction = [](double u, double v) {
+    const double phi = 2.0 * M_PI * (u - 0.5), theta = M_PI * v;
+    return Vec3{std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+  };
+  struct Light {
+    Vec3 center;       // unit
+    double half_u, half_v;  // half extents in radians along the light's two tangents
+    Rgb radiance;
+  };
+  // Two soft boxes (key upper left, fill right) and a small bright spot behind upper right.
+  const std::vector<Light> lights = {
+      {Normalize(Vec3{-0.6, 0.55, 0.58}), 0.28, 0.18, Rgb(6.0, 5.8, 5.4)},
+      {Normalize(Vec3{0.85, 0.25, 0.45}), 0.12, 0.35, Rgb(1.6, 1.8, 2.2)},
+      {Normalize(Vec3{0.45, 0.7, -0.55}), 0.03, 0.03, Rgb(120.0, 110.0, 95.0)},
+  };
+  RgbImage image(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      Rgb sum;
+      for (int sy = 0; sy < kSuper; ++sy) {
+        for (int sx = 0; sx < kSuper; ++sx) {
+          const Vec3 d =
+              direction((x + (sx + 0.5) / kSuper) / kWidth, (y + (sy + 0.5) / kSuper) / kHeight);
+          // A dim room: darker floor, a faint gradient up the walls.
+          Rgb c = d.y < 0 ? Rgb(0.015, 0.014, 0.013) : Rgb(0.03 + 0.03 * d.y);
+          for (const Light& light : lights) {
+            Vec3 t, b;
+            OrthonormalBasis(light.center, &t, &b);
+            const double along = Dot(d, light.center);
+            if (along <= 0) continue;
+            if (std::abs(std::atan2(Dot(d, t), along)) <= light.half_u &&
+                std::abs(std::atan2(Dot(d, b), along)) <= light.half_v) {
+              c = light.radiance;
+            }
+          }
+          sum += c;
+        }
+      }
+      image.pixels[static_cast<size_t>(y) * kWidth + x] = sum / (kSuper * kSuper);
+    }
+  }
+  return Environment(std::move(image));
+}
+
 void Environment::MapCoordinates(const Vec3& d, double* u, double* v) const {
   double phi = std::atan2(d.x, -d.z) - rotation_rad_;
   *u = 0.5 + phi / (2.0 * M_PI);

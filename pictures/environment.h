@@ -30,6 +30,10 @@ class Environment {
   explicit Environment(RgbImage latlong, double rotation_rad = 0.0);
 
   static Environment Sky();
+  // A high-frequency studio map: a dim room lit by two rectangular soft boxes and a small, very
+  // bright spot (about 3.4 deg across, radiance ~110), so that glossy lobes show their shape
+  // (the image error of docs/accuracy.md; relighting benchmarks).
+  static Environment Studio();
   static Environment Constant(const Rgb& radiance);
 
   // Radiance arriving from direction d (unit, world frame; d points away from the ball).

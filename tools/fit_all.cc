@@ -75,8 +75,9 @@ std::vector<std::string> ExpandMaterialList(const std::string& list) {
   }
   std::vector<std::string> out;
   for (const std::string& spec : specs) {
-    if (spec == "merl:*") {
-      for (const std::string& name : BundledMaterialNames()) out.push_back("merl:" + name);
+    if (spec == "merl:*" || spec == "rgl:*") {
+      const std::string set = spec.substr(0, spec.find(':'));
+      for (const std::string& name : BundledMaterialNames(set)) out.push_back(set + ":" + name);
     } else {
       out.push_back(spec);
     }

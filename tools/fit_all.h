@@ -20,7 +20,7 @@
 
 namespace zbrdf {
 
-// "merl:*" expands to every bundled measured material; other specs are kept. Specs are separated
+// "merl:*" and "rgl:*" expand to every material of that bundled set; other specs are kept. Specs are separated
 // by commas; a comma starts a new spec only when the next token names a model ("x:" before any
 // '='), so "ggx:alpha=0.2,F0=0.5,lambert:0.5" is two specs.
 std::vector<std::string> ExpandMaterialList(const std::string& list);

@@ -3,17 +3,25 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
+#include "brdf/brdf_prior.h"
 #include "brdf/dbrdf_file.h"
+#include "brdf/tabulated_file.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
+#include "basis/hash.h"
+#include "fitting/model_selection.h"
 #include "pictures/brdf_figure.h"
+#include "rig/direction_maps.h"
 #include "tools/sh_conversion.h"
 
 namespace zbrdf {
@@ -68,41 +76,123 @@ const AnalyticFitter& FitContext::Analytic(const Zone& zone, int order,
   return *slot;
 }
 
+const PriorFitter& FitContext::Prior(const Zone& zone, int order, const std::string& prior_path,
+                                     const PriorFitOptions& options, const std::string& cache_dir) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::shared_ptr<const BrdfPrior>& prior = priors_[prior_path];
+  if (!prior) prior = std::make_shared<BrdfPrior>(ReadPriorFile(prior_path));
+  auto& slot = prior_fitters_[{prior_path, {zone.theta_min_rad(), zone.theta_max_rad(), order}}];
+  if (slot) return *slot;
+  // The table projection depends on the grid, the zone, the order and the projection rule.
+  const std::string dir = cache_dir.empty() ? DefaultCacheDir() + "/priors" : cache_dir;
+  const double key_values[8] = {zone.theta_min_rad(), zone.theta_max_rad(), double(order),
+                                options.projection.window_inner_deg,
+                                options.projection.window_outer_deg,
+                                double(options.projection.half_theta_per_piece),
+                                double(options.projection.half_phi),
+                                double(options.projection.pair.theta_nodes)};
+  const int dims[3] = {prior->grid.theta_h_nodes(), prior->grid.theta_d_nodes(),
+                       prior->grid.phi_d_nodes()};
+  const uint64_t key = Fnv1a64(key_values, sizeof(key_values), Fnv1a64(dims, sizeof(dims)));
+  char name[64];
+  std::snprintf(name, sizeof(name), "projection-%016llx-v2.bin", static_cast<unsigned long long>(key));
+  const std::string path = dir + "/" + name;
+  const int rows = IsotropicLayout(order).size(), cols = prior->grid.size();
+  Eigen::MatrixXf cached;
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t payload = sizeof(float) * static_cast<size_t>(rows) * cols;
+    // A damaged or foreign cache entry is rebuilt: payload, then its FNV-1a hash.
+    if (bytes.size() == payload + sizeof(uint64_t)) {
+      uint64_t stored;
+      std::memcpy(&stored, bytes.data() + payload, sizeof(stored));
+      if (stored == Fnv1a64(bytes.data(), payload)) {
+        cached.resize(rows, cols);
+        std::memcpy(cached.data(), bytes.data(), payload);
+      }
+    }
+  }
+  if (cached.size() > 0) {
+    slot = std::make_unique<PriorFitter>(zone, order, prior, options, &cached);
+  } else {
+    slot = std::make_unique<PriorFitter>(zone, order, prior, options);
+    const Eigen::MatrixXf& p = slot->TableProjection();
+    std::string bytes(reinterpret_cast<const char*>(p.data()), sizeof(float) * p.size());
+    const uint64_t hash = Fnv1a64(bytes);
+    bytes.append(reinterpret_cast<const char*>(&hash), sizeof(hash));
+    try {
+      std::filesystem::create_directories(dir);
+      WriteFileAtomically(path, bytes);
+    } catch (const std::exception&) {
+      // A cache that cannot be written costs time, not results.
+    }
+  }
+  return *slot;
+}
+
 void FitSessionOptions::Validate() const {
   OptionChecker check("FitSessionOptions");
-  check.Require(model == "dbrdf" || model == "ggx" || model == "ward" || model == "as", "model",
-                "must be dbrdf, ggx, ward or as (got '" + model + "')")
+  const auto known = [](const std::string& m) {
+    return m == "prior" || m == "dbrdf" || m == "ggx" || m == "ward" || m == "as";
+  };
+  check.Require(known(model) || model == "auto", "model",
+                "must be prior, auto, dbrdf, ggx, ward or as (got '" + model + "')")
+      .InRange("auto_folds", auto_folds, 2, 16);
+  for (const std::string& c : auto_candidates) {
+    check.Require(known(c), "auto_candidates",
+                  "must name prior, dbrdf, ggx, ward or as (got '" + c + "')");
+  }
+  check.Require(!auto_candidates.empty(), "auto_candidates", "must name at least one model")
       .Nested("dbrdf", dbrdf)
       .Nested("analytic", analytic)
+      .Nested("prior", prior)
       .Nested("comparison", comparison)
       .ThrowIfInvalid();
 }
 
-FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOptions& options,
-                             FitContext* context) {
-  options.Validate();
-  const std::string& model_name = options.model;
-  const std::string zonal_path = SessionPath(session_dir, kZonalFile);
-  if (!std::filesystem::exists(zonal_path)) {
-    throw InputError(session_dir + " has no zonal.exr; capture or simulate the session first "
-                     "(zbrdf simulate / zbrdf capture), or process it (zbrdf process)");
-  }
-  const ZonalData zonal = ReadZonalExr(zonal_path);
-  const ZonalTensor data = ToZonalTensor(zonal);
-  FitContext local;
-  FitContext& fits = context ? *context : local;
-  FitSessionOutcome outcome;
-  nlohmann::json& report = outcome.report;
+namespace {
+
+// One model fitted to the whole tensor: its report entries (model, params, residual, ...) and
+// the BRDF.
+struct SingleFit {
+  nlohmann::json report;
+  std::shared_ptr<const Brdf> model;
+};
+
+const PriorFitter& PriorFitterFor(const ZonalTensor& data, const FitSessionOptions& options,
+                                  FitContext& fits) {
+  const std::string path = options.prior_path.empty() ? DefaultPriorPath() : options.prior_path;
+  return fits.Prior(data.zone(), data.order, path, options.prior, options.cache_dir);
+}
+
+SingleFit FitModel(const std::string& model_name, const ZonalTensor& data,
+                   const FitSessionOptions& options, FitContext& fits) {
+  SingleFit out;
+  nlohmann::json& report = out.report;
   report["model"] = model_name;
-  report["session"] = session_dir;
-  report["order"] = data.order;
-  report["zone_deg"] = {RadToDeg(data.theta_min_rad), RadToDeg(data.theta_max_rad)};
-  std::vector<std::string> conditions;
   const auto t0 = WallClock::now();
-  if (model_name == "dbrdf") {
-    const auto t_pre = WallClock::now();
+  if (model_name == "prior") {
+    const PriorFitter& fitter = PriorFitterFor(data, options, fits);
+    const double precompute = Since(t0);
+    const PriorFitResult fit = fitter.Fit(data, options.prior);
+    report["fit_time_s"] = Since(t0);
+    report["fit_time_breakdown"] = {{"precompute_s", precompute}, {"solve_s", fit.solve_seconds}};
+    report["params"] = fit.ToJson();
+    report["params"]["prior"] = options.prior_path.empty() ? DefaultPriorPath() : options.prior_path;
+    report["params"]["grid"] = fitter.prior().grid.ToString();
+    report["params"]["model_error_floor"] = options.prior.model_error_floor;
+    report["uncertainty"] = {{"available", !fit.brdf->sigma().empty()},
+                             {"relative_hemisphere", fit.relative_uncertainty_hemisphere},
+                             {"relative_zone", fit.relative_uncertainty_zone}};
+    report["isotropic"] = true;
+    report["residual"] = StatisticsJson(fit.statistics);
+    report["fitted"] = fit.fitted;
+    report["conditions"] = fit.conditions;
+    out.model = fit.brdf;
+  } else if (model_name == "dbrdf") {
     const DBrdfFitter& fitter = fits.DBrdf(data.zone(), data.order, options.dbrdf);
-    const double precompute = Since(t_pre);
+    const double precompute = Since(t0);
     const DBrdfFitResult fit = fitter.Fit(data);
     report["fit_time_s"] = Since(t0);
     report["fit_time_breakdown"] = {{"precompute_s", precompute}, {"solve_s", fit.solve_seconds}};
@@ -111,12 +201,11 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
     report["isotropic"] = fit.isotropic_table;
     report["residual"] = StatisticsJson(fit.statistics);
     report["fitted"] = fit.fitted;
-    conditions = fit.conditions;
-    outcome.model = std::make_shared<DBrdf>(fit.params);
+    report["conditions"] = fit.conditions;
+    out.model = std::make_shared<DBrdf>(fit.params);
   } else {
-    const auto t_pre = WallClock::now();
     const AnalyticFitter& fitter = fits.Analytic(data.zone(), data.order, options.analytic);
-    const double precompute = Since(t_pre);
+    const double precompute = Since(t0);
     const AnalyticFitResult fit = fitter.Fit(data, ParseAnalyticModel(model_name));
     report["fit_time_s"] = Since(t0);
     report["fit_time_breakdown"] = {{"precompute_s", precompute + fit.precompute_seconds},
@@ -127,27 +216,159 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
     report["isotropic"] = fit.isotropy.isotropic;
     report["residual"] = StatisticsJson(fit.statistics);
     report["fitted"] = fit.fitted;
-    conditions = fit.conditions;
-    outcome.model = fit.brdf;
+    report["conditions"] = fit.conditions;
+    out.model = fit.brdf;
   }
-  report["conditions"] = conditions;
+  return out;
+}
 
-  // Errors against the truth.
+// A candidate of --model auto: fits the training tensor, predicts its isotropic coefficients
+// with the model's own forward projection.
+ModelCandidate MakeCandidate(const std::string& name, const FitSessionOptions& options,
+                             FitContext& fits) {
+  return {name, [name, &options, &fits](const ZonalTensor& train) {
+            if (name == "prior") {
+              PriorFitOptions quick = options.prior;
+              quick.replicates = 0;  // the uncertainty is not needed to predict
+              return PriorFitterFor(train, options, fits).Fit(train, quick).model;
+            }
+            const SingleFit fit = FitModel(name, train, options, fits);
+            const PairQuadrature& q =
+                name == "dbrdf"
+                    ? fits.DBrdf(train.zone(), train.order, options.dbrdf).quadrature()
+                    : fits.Analytic(train.zone(), train.order, options.analytic).quadrature();
+            return q.ProjectIsotropicBrdf(*fit.model);
+          }};
+}
+
+// Errors of a fit against the session's true material (report keys error_*).
+void CompareWithTruth(const Brdf& model, const Brdf& truth, const Zone& zone,
+                      const BrdfComparisonOptions& options, nlohmann::json* report) {
+  const auto t_err = WallClock::now();
+  const BrdfComparison c = CompareBrdfs(model, truth, zone, options);
+  (*report)["material"] = truth.Spec();
+  (*report)["error_cosine_l2"] = Finite(c.cosine_l2);
+  (*report)["error_cosine_l2_80"] = Finite(c.cosine_l2_80);
+  (*report)["error_in_zone"] = Finite(c.in_zone);
+  (*report)["error_outside_zone"] = c.has_outside ? Finite(c.outside_zone) : nlohmann::json(nullptr);
+  (*report)["error_ngan"] = {{"hemisphere", Finite(c.cosine_l2_channel_mean)},
+                             {"theta_80", Finite(c.cosine_l2_80_channel_mean)},
+                             {"zone", Finite(c.in_zone_channel_mean)}};
+  (*report)["error_time_s"] = Since(t_err);
+}
+
+// Writes fit-<model>.json and the model's file (fit-dbrdf.exr, fit-prior.exr) into the session.
+void WriteFitOutputs(const std::string& session_dir, const std::string& model_name,
+                     const Brdf& model, nlohmann::json* report) {
+  nlohmann::json outputs = nlohmann::json::object();
+  const std::string json_path = SessionPath(session_dir, FitReportFileName(model_name));
+  if (model_name == "dbrdf") outputs["dbrdf"] = SessionPath(session_dir, kDBrdfFitFile);
+  if (model_name == "prior") {
+    outputs["table"] = SessionPath(session_dir, kPriorFitFile);
+    // The report names the table as its model, so that the report itself reads as this fit.
+    (*report)["spec"] = "file:" + SessionPath(session_dir, kPriorFitFile);
+  }
+  outputs["report"] = json_path;
+  (*report)["outputs"] = outputs;
+  if (model_name == "dbrdf") {
+    WriteDBrdfFile(SessionPath(session_dir, kDBrdfFitFile), static_cast<const DBrdf&>(model),
+                   *report);
+  } else if (model_name == "prior") {
+    WriteTabulatedFile(SessionPath(session_dir, kPriorFitFile),
+                       static_cast<const TabulatedBrdf&>(model), *report);
+  }
+  WriteFileAtomically(json_path, report->dump(2) + "\n");
+}
+
+}  // namespace
+
+FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOptions& options,
+                             FitContext* context) {
+  options.Validate();
+  const std::string zonal_path = SessionPath(session_dir, kZonalFile);
+  if (!std::filesystem::exists(zonal_path)) {
+    throw InputError(session_dir + " has no zonal.exr; capture or simulate the session first "
+                     "(zbrdf simulate / zbrdf capture), or process it (zbrdf process)");
+  }
+  const ZonalData zonal = ReadZonalExr(zonal_path);
+  const ZonalTensor data = ToZonalTensor(zonal);
+  FitContext local;
+  FitContext& fits = context ? *context : local;
+  FitSessionOutcome outcome;
   if (options.compare || !options.figure_path.empty()) outcome.truth = SessionMaterial(session_dir);
+  const bool compare = outcome.truth && options.compare && !outcome.truth->IsDelta();
+
+  // --model auto: cross-validate the candidates, then fit each to all the data.
+  std::string model_name = options.model;
+  nlohmann::json auto_report;
+  std::map<std::string, SingleFit> candidates_fitted;
+  if (model_name == "auto") {
+    const auto t_select = WallClock::now();
+    std::vector<ModelCandidate> candidates;
+    for (const std::string& name : options.auto_candidates) {
+      candidates.push_back(MakeCandidate(name, options, fits));
+    }
+    const ModelSelection selection = SelectModel(data, candidates, options.auto_folds);
+    if (selection.recommended.empty()) {
+      throw InputError("zbrdf fit --model auto: no candidate could be fitted to " + session_dir +
+                       " (" + selection.ToJson().dump() + ")");
+    }
+    auto_report = selection.ToJson();
+    auto_report["selection_time_s"] = Since(t_select);
+    model_name = selection.recommended;
+    nlohmann::json errors = nlohmann::json::object();
+    for (const std::string& name : options.auto_candidates) {
+      SingleFit fit = FitModel(name, data, options, fits);
+      fit.report["session"] = session_dir;
+      fit.report["order"] = data.order;
+      fit.report["zone_deg"] = {RadToDeg(data.theta_min_rad), RadToDeg(data.theta_max_rad)};
+      if (compare) {
+        CompareWithTruth(*fit.model, *outcome.truth, data.zone(), options.comparison, &fit.report);
+        errors[name] = {{"error_cosine_l2", fit.report["error_cosine_l2"]},
+                        {"error_cosine_l2_80", fit.report["error_cosine_l2_80"]},
+                        {"error_in_zone", fit.report["error_in_zone"]},
+                        {"error_ngan", fit.report["error_ngan"]}};
+      }
+      if (options.write_outputs && name != model_name) {
+        fit.report["warnings"] = nlohmann::json::array();
+        WriteFitOutputs(session_dir, name, *fit.model, &fit.report);
+      }
+      candidates_fitted.emplace(name, std::move(fit));
+    }
+    if (!errors.empty()) auto_report["errors_against_truth"] = errors;
+    if (model_name == "prior") {
+      const nlohmann::json& u = candidates_fitted["prior"].report["uncertainty"];
+      const double spread = u.value("relative_hemisphere", 0.0);
+      char line[200];
+      std::snprintf(line, sizeof(line),
+                    "; outside the zone its one-sigma uncertainty is %.0f%% of the BRDF "
+                    "(cosine-weighted), %.0f%% inside",
+                    100 * spread, 100 * u.value("relative_zone", 0.0));
+      auto_report["why"] = auto_report["why"].get<std::string>() + line;
+    } else {
+      auto_report["why"] = auto_report["why"].get<std::string>() +
+                           "; an analytic lobe extrapolates outside the zone by its formula only";
+    }
+  }
+
+  SingleFit single = candidates_fitted.count(model_name)
+                         ? std::move(candidates_fitted[model_name])
+                         : FitModel(model_name, data, options, fits);
+  nlohmann::json& report = outcome.report;
+  report = std::move(single.report);
+  outcome.model = single.model;
+  report["session"] = session_dir;
+  report["order"] = data.order;
+  report["zone_deg"] = {RadToDeg(data.theta_min_rad), RadToDeg(data.theta_max_rad)};
+  if (!auto_report.is_null()) report["auto"] = auto_report;
+
   std::vector<std::string> warnings;
   if (outcome.truth && options.compare && outcome.truth->IsDelta()) {
     report["material"] = outcome.truth->Spec();
     warnings.push_back("the true material is a delta (perfect mirror): its f_r is a distribution, "
                        "so the L2 errors are undefined and not reported");
-  } else if (outcome.truth && options.compare) {
-    const auto t_err = WallClock::now();
-    const BrdfComparison c = CompareBrdfs(*outcome.model, *outcome.truth, data.zone(), options.comparison);
-    report["material"] = outcome.truth->Spec();
-    report["error_cosine_l2"] = Finite(c.cosine_l2);
-    report["error_cosine_l2_80"] = Finite(c.cosine_l2_80);
-    report["error_in_zone"] = Finite(c.in_zone);
-    report["error_outside_zone"] = c.has_outside ? Finite(c.outside_zone) : nlohmann::json(nullptr);
-    report["error_time_s"] = Since(t_err);
+  } else if (compare && !report.contains("error_cosine_l2")) {
+    CompareWithTruth(*outcome.model, *outcome.truth, data.zone(), options.comparison, &report);
   }
   if (!options.figure_path.empty()) {
     if (!outcome.truth) {
@@ -184,17 +405,14 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
   if (!report.value("fitted", false)) warnings.push_back("nothing was fitted: see conditions");
   report["warnings"] = warnings;
   if (options.write_outputs) {
-    nlohmann::json outputs = nlohmann::json::object();
-    const std::string json_path = SessionPath(session_dir, FitReportFileName(model_name));
-    if (model_name == "dbrdf") {
-      const std::string exr_path = SessionPath(session_dir, kDBrdfFitFile);
-      outputs["dbrdf"] = exr_path;
-      report["outputs"] = outputs;
-      WriteDBrdfFile(exr_path, static_cast<const DBrdf&>(*outcome.model), report);
+    WriteFitOutputs(session_dir, model_name, *outcome.model, &report);
+    if (report.contains("auto")) {
+      nlohmann::json choice = report["auto"];
+      choice["session"] = session_dir;
+      choice["report"] = SessionPath(session_dir, FitReportFileName(model_name));
+      WriteFileAtomically(SessionPath(session_dir, kAutoFitFile), choice.dump(2) + "\n");
+      report["outputs"]["auto"] = SessionPath(session_dir, kAutoFitFile);
     }
-    outputs["report"] = json_path;
-    report["outputs"] = outputs;
-    WriteFileAtomically(json_path, report.dump(2) + "\n");
   }
   return outcome;
 }
