@@ -65,8 +65,7 @@ const std::vector<ModelInfo>& Models() {
       {"rgl", {}, nullptr,
        "rgl:NAME  bundled material of the RGL database (another device; data/materials/rgl)"},
       {"file", {}, nullptr,
-       "file:PATH.binary  MERL table;  file:PATH.json  network file;  file:PATH.exr  zbrdf "
-       "fit or table;  file:PATH.bsdf  RGL file"},
+       "file:PATH.binary  MERL table;  file:PATH.json  network file;  file:PATH.exr  tabulated"},
       {"target", {}, nullptr,
        "target:white|graycard|mirror  calibration targets: 95% white, 18% gray, mirror R 0.92"},
   };

@@ -99,7 +99,7 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
       {"gold", "expected MODEL:PARAMETERS"},
       {"foo:1",
        "unknown model 'foo'; valid: lambert, blinn-phong, ward, as, ggx, dbrdf, mirror, retro, "
-       "merl, file"},
+       "merl, rgl, file"},
       {"lambert:", "empty value in the parameters of lambert"},
       {"lambert:0.1,,0.3", "empty value"},
       {"lambert:0.1,0.2", "albedo takes one value (gray) or three (r,g,b), got 2"},
@@ -128,7 +128,8 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
       {"merl:", "merl: needs a material name"},
       {"merl:chrom", "unknown measured material 'chrom'; did you mean 'chrome'"},
       {"file:", "file: needs a path"},
-      {"file:gold.exr", "cannot tell the format of 'gold.exr' from its extension"},
+      {"file:gold.txt", "cannot tell the format of 'gold.txt' from its extension"},
+      {"file:/nonexistent/gold.exr", "/nonexistent/gold.exr"},
       {"file:/nonexistent/gold.binary", "MERL file /nonexistent/gold.binary: cannot open it"},
       {"file:/nonexistent/gold.json", "network file /nonexistent/gold.json: cannot open it"},
   };
@@ -141,7 +142,7 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
 
 TEST(MaterialSpecTest, HelpListsModelsAndBundledMaterials) {
   const std::vector<std::string> models = MaterialModelNames();
-  EXPECT_EQ(models.size(), 11u);
+  EXPECT_EQ(models.size(), 12u);
   const std::string help = MaterialSpecHelp();
   for (const std::string& model : models) {
     EXPECT_NE(help.find("  " + model + ":"), std::string::npos) << model;
