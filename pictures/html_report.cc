@@ -318,8 +318,16 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
   };
   if (fitted) {
     page.sections.push_back("Fitted BRDF");
-    body +=
-        "<h2>Fitted BRDF</h2>\n<p>" + HtmlEscape(fitted_what) + "</p>\n" + previews(*fitted, "fit");
+    std::string choice;
+    const nlohmann::json autofit = ReadJson(SessionPath(dir, kAutoFitFile));
+    if (autofit.is_object() && autofit.contains("recommended")) {
+      // The recommendation of `zbrdf fit --model auto` and its reason (docs/prior.md).
+      choice = "<p>Recommended by <code>zbrdf fit --model auto</code>: <b>" +
+               HtmlEscape(autofit.value("recommended", std::string())) + "</b>. " +
+               HtmlEscape(autofit.value("why", std::string())) + "</p>\n";
+    }
+    body += "<h2>Fitted BRDF</h2>\n<p>" + HtmlEscape(fitted_what) + "</p>\n" + choice +
+            previews(*fitted, "fit");
   }
   if (truth) {
     page.sections.push_back("True material");

@@ -425,6 +425,11 @@ std::string FormatFitSummary(const nlohmann::json& r) {
                 r.value("order", 0), r["zone_deg"][0].get<double>(), r["zone_deg"][1].get<double>(),
                 r.value("fit_time_s", 0.0));
   out << line;
+  if (r.contains("auto") && r["auto"].is_object()) {
+    const nlohmann::json& a = r["auto"];
+    out << "  auto: recommends " << a.value("recommended", std::string()) << ": "
+        << a.value("why", std::string()) << "\n";
+  }
   const nlohmann::json& p = r["params"];
   if (r.value("model", std::string()) == "dbrdf") {
     std::snprintf(line, sizeof(line),
