@@ -21,6 +21,7 @@
 #include "brdf/model_parameters.h"
 #include "brdf/nbrdf.h"
 #include "brdf/retro.h"
+#include "brdf/rgl_bsdf.h"
 #include "brdf/ward.h"
 
 namespace zbrdf {
@@ -65,7 +66,7 @@ const std::vector<ModelInfo>& Models() {
       {"rgl", {}, nullptr,
        "rgl:NAME  bundled material of the RGL database (another device; data/materials/rgl)"},
       {"file", {}, nullptr,
-       "file:PATH.binary  MERL table;  file:PATH.json  network file;  file:PATH.exr  tabulated"},
+       "file:PATH.binary  MERL table;  .json  network;  .bsdf  RGL file;  .exr  tabulated fit"},
       {"target", {}, nullptr,
        "target:white|graycard|mirror  calibration targets: 95% white, 18% gray, mirror R 0.92"},
   };
@@ -283,12 +284,13 @@ std::unique_ptr<Brdf> MakeFromFile(const std::string& spec, const std::string& p
   const std::string extension = Lower(std::filesystem::path(path).extension().string());
   if (extension == ".binary") return MerlBrdf::FromFile(path);
   if (extension == ".json") return NbrdfBrdf::FromFile(path);
+  if (extension == ".bsdf") return RglBrdf::FromFile(path);
   if (extension == ".exr" && ExrFormatOf(path) == "zbrdf-tabulated-v1") {
     return ReadTabulatedFile(path, "file:" + path);
   }
   throw InputError("material '" + spec + "': cannot tell the format of '" + path +
-                   "' from its extension; use .binary (MERL table), .json (network file) or a "
-                   "tabulated .exr (zbrdf fit --model prior)");
+                   "' from its extension; use .binary (MERL table), .json (network file), .bsdf (RGL "
+                   "file) or a tabulated .exr (zbrdf fit --model prior)");
 }
 
 }  // namespace

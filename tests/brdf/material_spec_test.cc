@@ -130,6 +130,7 @@ TEST(MaterialSpecTest, ErrorsNameTheSpecAndTheBadPart) {
       {"file:", "file: needs a path"},
       {"file:gold.txt", "cannot tell the format of 'gold.txt' from its extension"},
       {"file:/nonexistent/gold.exr", "/nonexistent/gold.exr"},
+      {"file:/nonexistent/gold.bsdf", "/nonexistent/gold.bsdf"},
       {"file:/nonexistent/gold.binary", "MERL file /nonexistent/gold.binary: cannot open it"},
       {"file:/nonexistent/gold.json", "network file /nonexistent/gold.json: cannot open it"},
   };
