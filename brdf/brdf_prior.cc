@@ -16,6 +16,7 @@
 #include "basis/atomic_file.h"
 #include "basis/data_path.h"
 #include "basis/error.h"
+#include "brdf/exr_writer.h"
 #include "basis/hash.h"
 #include "brdf/exr_header.h"
 
@@ -115,15 +116,7 @@ void WritePriorFile(const std::string& path, const BrdfPrior& prior) {
   Imf::FrameBuffer fb;
   fb.insert("f", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(data.data()), sizeof(half),
                             sizeof(half) * width));
-  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
-  try {
-    Imf::OutputFile file(stream, header);
-    file.setFrameBuffer(fb);
-    file.writePixels(height);
-  } catch (const std::exception& e) {
-    throw InputError("cannot write prior " + path + ": " + e.what());
-  }
-  WriteFileAtomically(path, stream.str());
+  WriteScanlineExr(path, header, fb, height, "prior");
 }
 
 BrdfPrior ReadPriorFile(const std::string& path) {

@@ -16,6 +16,7 @@
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "brdf/exr_writer.h"
 #include "brdf/exr_header.h"
 
 namespace zbrdf {
@@ -49,15 +50,7 @@ void WriteDBrdfFile(const std::string& path, const DBrdf& model, const nlohmann:
   Imf::FrameBuffer fb;
   fb.insert("p", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(p.data()), sizeof(float),
                             sizeof(float) * table.phi_samples));
-  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
-  try {
-    Imf::OutputFile file(stream, header);
-    file.setFrameBuffer(fb);
-    file.writePixels(table.theta_samples);
-  } catch (const std::exception& e) {
-    throw InputError("cannot write D-BRDF file " + path + ": " + e.what());
-  }
-  WriteFileAtomically(path, stream.str());
+  WriteScanlineExr(path, header, fb, table.theta_samples, "D-BRDF file");
 }
 
 namespace {

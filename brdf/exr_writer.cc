@@ -6,6 +6,7 @@
 #include <ImfHeader.h>
 #include <ImfIntAttribute.h>
 #include <ImfMultiPartOutputFile.h>
+#include <ImfOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
 #include <ImfStdIO.h>
@@ -86,6 +87,19 @@ void TwoPartExrWriter::AddTensorChannel(const std::string& name, std::vector<flo
   impl_->storage.push_back(std::move(values));
   impl_->Insert(impl_->tensor_header, impl_->tensor_fb, name, impl_->storage.back().data(), 1,
                 static_cast<size_t>(impl_->tensor_size));
+}
+
+void WriteScanlineExr(const std::string& path, const Imf::Header& header,
+                      const Imf::FrameBuffer& frame_buffer, int rows, const std::string& what) {
+  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
+  try {
+    Imf::OutputFile file(stream, header);
+    file.setFrameBuffer(frame_buffer);
+    file.writePixels(rows);
+  } catch (const std::exception& e) {
+    throw InputError("cannot write " + what + " " + path + ": " + e.what());
+  }
+  WriteFileAtomically(path, stream.str());
 }
 
 void TwoPartExrWriter::Write(const std::string& path, const std::string& what) const {

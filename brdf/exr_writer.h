@@ -3,13 +3,25 @@
 // 32-bit float, the same zbrdf.* attributes on both parts (OpenEXR keeps attributes per part; a
 // reader that opens only one part still sees them). Parts of a multi-part file share a display
 // window: the tensor part has the image's display window and its own data window at the origin.
+//
+// WriteScanlineExr: the one-part files (D-BRDF, tabulated BRDF, prior), encoded in memory and
+// written whole through basis/atomic_file.h.
 #pragma once
+
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
 
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace zbrdf {
+
+// Encodes one scanline part (header, frame buffer, `rows` scanlines) and writes it whole. Throws
+// InputError("cannot write " + what + " " + path + ": " + OpenEXR's message), or basis/
+// atomic_file.h's FileWriteError for the write itself.
+void WriteScanlineExr(const std::string& path, const Imf::Header& header,
+                      const Imf::FrameBuffer& frame_buffer, int rows, const std::string& what);
 
 class TwoPartExrWriter {
  public:

@@ -13,6 +13,7 @@
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "brdf/exr_writer.h"
 #include "brdf/exr_header.h"
 
 namespace zbrdf {
@@ -123,15 +124,7 @@ void WriteTabulatedFile(const std::string& path, const TabulatedBrdf& brdf,
     fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(planes[p].data()),
                                sizeof(float), sizeof(float) * width));
   }
-  Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
-  try {
-    Imf::OutputFile file(stream, header);
-    file.setFrameBuffer(fb);
-    file.writePixels(height);
-  } catch (const std::exception& e) {
-    throw InputError("cannot write tabulated BRDF file " + path + ": " + e.what());
-  }
-  WriteFileAtomically(path, stream.str());
+  WriteScanlineExr(path, header, fb, height, "tabulated BRDF file");
 }
 
 std::unique_ptr<TabulatedBrdf> ReadTabulatedFile(const std::string& path, const std::string& spec) {

@@ -190,8 +190,8 @@ TEST(WriteSites, EveryFileIsWrittenThroughTheAtomicFileHelper) {
   std::printf("%d calls of the helper's writers in %zu files\n", calls, scan.helper_calls.size());
   for (const char* writer : {"acquisition/session.cc",     // session.json, frames, journal lines
                              "acquisition/processing.cc",  // hdr/*.exr
-                             "brdf/exr_writer.cc",         // zonal.exr, SH files
-                             "brdf/dbrdf_file.cc",         // fit-dbrdf.exr, D-BRDF exports
+                             "brdf/exr_writer.cc",         // zonal.exr, SH, D-BRDF,
+                                                           // tabulated and prior files
                              "brdf/merl_table.cc",         // MERL exports
                              "brdf/tensor_file.cc",        // RGL .bsdf exports
                              "brdf/brdf_explorer.cc",      // BRDF Explorer exports

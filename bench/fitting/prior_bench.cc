@@ -7,6 +7,8 @@
 // once outside the timed region.
 #include <benchmark/benchmark.h>
 
+#include "bench/fitting/bench_data.h"
+
 #include <array>
 #include <memory>
 #include <random>
@@ -19,35 +21,8 @@
 namespace zbrdf {
 namespace {
 
-const Zone& FastThesisZone() {
-  static const Zone zone = Zone::FromDegrees(11.3, 54.9);  // the thesis rig at the fast preset
-  return zone;
-}
-
-const ZonalTensor& GgxData(int order) {
-  static std::array<std::unique_ptr<ZonalTensor>, 31> cache;
-  if (!cache[order]) {
-    const GgxBrdf ggx(0.15, 0.15, Rgb(0.3), Rgb(0.1, 0.2, 0.3));
-    const auto iso = PairQuadrature(FastThesisZone(), order).ProjectIsotropicBrdf(ggx);
-    auto data = std::make_unique<ZonalTensor>();
-    data->theta_min_rad = FastThesisZone().theta_min_rad();
-    data->theta_max_rad = FastThesisZone().theta_max_rad();
-    data->order = order;
-    std::mt19937_64 rng(5);
-    std::normal_distribution<double> normal;
-    for (int ch = 0; ch < 3; ++ch) {
-      data->z[ch] = IsotropicLayout(order).Expand(iso[ch]);
-      const double sigma = 0.01 * std::sqrt(data->z[ch].squaredNorm() / data->z[ch].size());
-      data->variance[ch] =
-          Eigen::MatrixXd::Constant(data->z[ch].rows(), data->z[ch].cols(), sigma * sigma);
-      for (Eigen::Index i = 0; i < data->z[ch].size(); ++i) {
-        data->z[ch].data()[i] += sigma * normal(rng);
-      }
-    }
-    cache[order] = std::move(data);
-  }
-  return *cache[order];
-}
+const Zone& FastThesisZone() { return bench::ThesisZone(); }
+const ZonalTensor& GgxData(int order) { return bench::NoisyGgxTensor(order); }
 
 std::shared_ptr<const BrdfPrior> DefaultPrior() {
   static const auto prior = std::make_shared<const BrdfPrior>(ReadPriorFile(DefaultPriorPath()));
