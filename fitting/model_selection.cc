@@ -4,15 +4,22 @@
 #include <cstdio>
 
 #include "basis/error.h"
+#include "basis/option_checker.h"
 #include "basis/spherical_harmonics.h"
 
 namespace zbrdf {
 
+void ModelSelectionOptions::Validate() const {
+  OptionChecker("ModelSelectionOptions")
+      .InRange("folds", folds, 2, 16)
+      .InRangeBelow("margin", margin, 0, 1)
+      .ThrowIfInvalid();
+}
+
 ModelSelection SelectModel(const ZonalTensor& data, const std::vector<ModelCandidate>& candidates,
-                           int folds) {
-  if (folds < 2 || folds > 16) {
-    throw InputError("model selection: folds must be in [2, 16] (got " + std::to_string(folds) + ")");
-  }
+                           const ModelSelectionOptions& options) {
+  options.Validate();
+  const int folds = options.folds;
   if (const std::string problems = data.Problems(); !problems.empty()) {
     throw InputError("model selection: " + problems);
   }
@@ -90,6 +97,28 @@ ModelSelection SelectModel(const ZonalTensor& data, const std::vector<ModelCandi
     selection.why = "no candidate could be fitted";
     return selection;
   }
+  // The preferred candidate stays unless another beats it in every block and by the margin.
+  std::string kept_because;
+  for (const auto& s : selection.scores) {
+    if (s.name != options.preferred || !s.failure.empty() || &s == best) continue;
+    bool every_block = best->fold_errors.size() == s.fold_errors.size();
+    for (size_t k = 0; every_block && k < s.fold_errors.size(); ++k) {
+      every_block = best->fold_errors[k] < s.fold_errors[k];
+    }
+    const bool by_margin = best->cv_error <= (1 - options.margin) * s.cv_error;
+    if (!every_block || !by_margin) {
+      char reason[240];
+      std::snprintf(reason, sizeof(reason),
+                    "; %s predicts %.0f%% better but %s, so %s is kept: it extrapolates from "
+                    "measured materials where the rig does not look",
+                    best->name.c_str(), 100 * (1 - best->cv_error / s.cv_error),
+                    !every_block ? "not in every held-out block"
+                                 : "by less than the margin an analytic model must show",
+                    s.name.c_str());
+      kept_because = reason;
+      best = &s;
+    }
+  }
   selection.recommended = best->name;
   char line[160];
   std::snprintf(line, sizeof(line), "%s predicts coefficients it was not fitted to with %.1f%% error",
@@ -106,6 +135,7 @@ ModelSelection SelectModel(const ZonalTensor& data, const std::vector<ModelCandi
     others += (others.empty() ? "" : ", ") + std::string(line);
   }
   if (!others.empty()) selection.why += " (" + others + ")";
+  selection.why += kept_because;
   return selection;
 }
 

@@ -138,7 +138,8 @@ void FitSessionOptions::Validate() const {
   };
   check.Require(known(model) || model == "auto", "model",
                 "must be prior, auto, dbrdf, ggx, ward or as (got '" + model + "')")
-      .InRange("auto_folds", auto_folds, 2, 16);
+      .InRange("auto_folds", auto_folds, 2, 16)
+      .InRangeBelow("auto_margin", auto_margin, 0, 1);
   for (const std::string& c : auto_candidates) {
     check.Require(known(c), "auto_candidates",
                   "must name prior, dbrdf, ggx, ward or as (got '" + c + "')");
@@ -308,7 +309,16 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
     for (const std::string& name : options.auto_candidates) {
       candidates.push_back(MakeCandidate(name, options, fits));
     }
-    const ModelSelection selection = SelectModel(data, candidates, options.auto_folds);
+    ModelSelectionOptions selection_options;
+    selection_options.folds = options.auto_folds;
+    selection_options.margin = options.auto_margin;
+    // The prior is preferred: its extrapolation is bounded by measured materials
+    // (fitting/model_selection.h).
+    if (std::find(options.auto_candidates.begin(), options.auto_candidates.end(), "prior") !=
+        options.auto_candidates.end()) {
+      selection_options.preferred = "prior";
+    }
+    const ModelSelection selection = SelectModel(data, candidates, selection_options);
     if (selection.recommended.empty()) {
       throw InputError("zbrdf fit --model auto: no candidate could be fitted to " + session_dir +
                        " (" + selection.ToJson().dump() + ")");

@@ -67,6 +67,9 @@ struct FitSessionOptions {
   // auto: the candidates cross-validated (tools/model_selection.h)
   std::vector<std::string> auto_candidates{"prior", "dbrdf", "ggx"};
   int auto_folds = 4;
+  // How much lower (relative) another candidate's cross-validated error must be, in every
+  // block, to be recommended over the prior (fitting/model_selection.h).
+  double auto_margin = 0.25;
   bool write_outputs = true;
   bool compare = true;          // errors against session.json's material, when there is one
   std::string figure_path;      // PNG: truth | SH (order of the data) | fit; needs a material

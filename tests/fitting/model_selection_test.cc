@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -54,6 +55,21 @@ Coefficients Scaled(double factor) {
   return out;
 }
 
+// The truth with the entries of block k (of 4) scaled by factors[k]: each block's held-out error
+// is |factors[k] - 1| exactly.
+Coefficients BlockScaled(const std::array<double, 4>& factors) {
+  Coefficients out = Truth();
+  const IsotropicLayout layout(kOrder);
+  for (int m = 0; m <= kOrder; ++m) {
+    for (int l = m; l <= kOrder; ++l) {
+      for (int lp = m; lp <= kOrder; ++lp) {
+        for (auto& v : out) v[layout.Index(m, l, lp)] *= factors[CrossValidationBlock(l, lp, 4)];
+      }
+    }
+  }
+  return out;
+}
+
 // Degree and signed order of each tensor index.
 void DegreeAndOrder(int index, int* l, int* m) {
   *l = static_cast<int>(std::sqrt(static_cast<double>(index)));
@@ -100,7 +116,7 @@ TEST(ModelSelectionTest, EachIsotropicEntryIsHeldOutInExactlyOneFold) {
                                     seen.push_back(train);
                                     return Truth();
                                   }};
-    const ModelSelection s = SelectModel(data, {recorder}, folds);
+    const ModelSelection s = SelectModel(data, {recorder}, {.folds = folds});
     ASSERT_EQ(static_cast<int>(seen.size()), folds);
     double largest = 0;
     for (int c = 0; c < 3; ++c) largest = std::max(largest, data.z[c].cwiseAbs().maxCoeff());
@@ -166,7 +182,7 @@ TEST(ModelSelectionTest, HeldOutEntriesCarryNoWeight) {
                                    }
                                    return out;
                                  }};
-  const ModelSelection s = SelectModel(Data(data_iso), {scale_fit}, folds);
+  const ModelSelection s = SelectModel(Data(data_iso), {scale_fit}, {.folds = folds});
   ASSERT_EQ(s.scores[0].fold_errors.size(), 4u);
   EXPECT_NEAR(s.scores[0].fold_errors[fold], 0.5, 1e-12);
   // The other folds see block 1's doubled data in training: s > 1 there.
@@ -217,16 +233,66 @@ TEST(ModelSelectionTest, CandidatesReturningNonsenseFailInsteadOfWinning) {
 TEST(ModelSelectionTest, FoldsOutsideTheRangeAndMalformedDataThrow) {
   const std::vector<ModelCandidate> candidates = {Returning("exact", Truth())};
   for (const int folds : {-3, 0, 1, 17}) {
-    EXPECT_THROW(SelectModel(Data(), candidates, folds), InputError) << folds;
+    EXPECT_THROW(SelectModel(Data(), candidates, {.folds = folds}), InputError) << folds;
   }
-  EXPECT_NO_THROW(SelectModel(Data(), candidates, 2));
-  EXPECT_NO_THROW(SelectModel(Data(), candidates, 16));
+  EXPECT_NO_THROW(SelectModel(Data(), candidates, {.folds = 2}));
+  EXPECT_NO_THROW(SelectModel(Data(), candidates, {.folds = 16}));
+  for (const double margin : {-0.1, 1.0, std::nan("")}) {
+    EXPECT_THROW(SelectModel(Data(), candidates, {.margin = margin}), InputError) << margin;
+  }
   ZonalTensor bad = Data();
   bad.variance[1](2, 3) = -1;
   EXPECT_THROW(SelectModel(bad, candidates), InputError);
   bad = Data();
   bad.z[2](0, 0) = std::nan("");
   EXPECT_THROW(SelectModel(bad, candidates), InputError);
+}
+
+}  // namespace
+}  // namespace zbrdf
+
+namespace zbrdf {
+namespace {
+
+// The preferred candidate (the prior in zbrdf fit) is kept unless another predicts every block
+// better and its error is at most (1 - margin) of the preferred one's.
+TEST(ModelSelectionTest, PreferredCandidateIsReplacedOnlyByOneBetterInEveryBlockByTheMargin) {
+  const ModelSelectionOptions prefer{.preferred = "prior", .margin = 0.25};
+  const ModelCandidate prior = Returning("prior", Scaled(1.2));  // 20% in every block
+
+  // Better in every block, 10% against 20%: beyond the margin (15%), replaced.
+  ModelSelection s = SelectModel(Data(), {prior, Returning("ggx", Scaled(1.1))}, prefer);
+  EXPECT_EQ(s.recommended, "ggx") << s.why;
+  EXPECT_EQ(s.why.find("kept"), std::string::npos) << s.why;
+
+  // Better in every block but within the margin (16% against 20%): kept.
+  s = SelectModel(Data(), {prior, Returning("ggx", Scaled(1.16))}, prefer);
+  EXPECT_EQ(s.recommended, "prior") << s.why;
+  EXPECT_NE(s.why.find("prior predicts coefficients it was not fitted to with 20.0% error"),
+            std::string::npos) << s.why;
+  EXPECT_NE(s.why.find("ggx 16.0%"), std::string::npos) << s.why;
+  EXPECT_NE(s.why.find("by less than the margin"), std::string::npos) << s.why;
+
+  // Far better overall (exact in three blocks) but worse in one: kept.
+  const std::array<double, 4> three_exact{1.0, 1.0, 1.0, 1.25};
+  s = SelectModel(Data(), {Returning("dbrdf", BlockScaled(three_exact)), prior}, prefer);
+  ASSERT_EQ(s.scores.size(), 2u);
+  EXPECT_LT(s.scores[0].cv_error, 0.75 * s.scores[1].cv_error);
+  EXPECT_NEAR(s.scores[0].fold_errors[3], 0.25, 1e-13);
+  EXPECT_NEAR(s.scores[0].fold_errors[0], 0.0, 1e-13);
+  EXPECT_EQ(s.recommended, "prior") << s.why;
+  EXPECT_NE(s.why.find("not in every held-out block"), std::string::npos) << s.why;
+
+  // Without a preference the lowest error wins.
+  s = SelectModel(Data(), {Returning("dbrdf", BlockScaled(three_exact)), prior});
+  EXPECT_EQ(s.recommended, "dbrdf");
+
+  // A preferred candidate that cannot be fitted is no obstacle.
+  const ModelCandidate failing{"prior", [](const ZonalTensor&) -> Coefficients {
+                                 throw InputError("no prior");
+                               }};
+  s = SelectModel(Data(), {failing, Returning("ggx", Scaled(1.16))}, prefer);
+  EXPECT_EQ(s.recommended, "ggx");
 }
 
 }  // namespace
