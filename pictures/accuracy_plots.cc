@@ -77,13 +77,18 @@ void WriteErrorBarPlot(const std::string& path, const std::string& title,
     const double va = std::isfinite(a.value) ? a.value : 1e9, vb = std::isfinite(b.value) ? b.value : 1e9;
     return va < vb;
   });
-  const int bar = 9, left = 50, top = 36, bottom = 150, right = 20;
-  const int w = std::max(500, left + right + bar * static_cast<int>(sorted.size())), h = 480;
+  const int n = std::max<int>(1, static_cast<int>(sorted.size()));
+  const int left = 50, top = 36, bottom = 150, right = 20;
+  const int bar = std::clamp((600 - left - right) / n, 9, 24);  // few items: wider bars
+  const int w = std::max(600, left + right + bar * n), h = 480;
+  const bool baselines = std::any_of(sorted.begin(), sorted.end(),
+                                     [](const BarItem& b) { return std::isfinite(b.baseline); });
   const double y_max = 2.0;
   cv::Mat image(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   const int y0 = top, y1 = h - bottom;
   auto Y = [&](double e) { return y1 - static_cast<int>(std::clamp(e, 0.0, y_max) / y_max * (y1 - y0)); };
-  Text(image, title + "  (bars: recommended fit; black ticks: Ngan et al. 2005)", cv::Point(10, 22), 0.45);
+  Text(image, title + (baselines ? "  (black ticks: Ngan et al. 2005, dense data)" : ""),
+       cv::Point(10, 22), 0.45);
   for (double e = 0; e <= y_max + 1e-9; e += 0.5) {
     cv::line(image, cv::Point(left, Y(e)), cv::Point(w - right, Y(e)),
              e == 1.0 ? cv::Scalar(160, 160, 220) : cv::Scalar(230, 230, 230));

@@ -328,9 +328,9 @@ AccuracySummary ReduceAccuracy(const std::string& out_dir) {
         ngan_full.push_back(n_full);
         ngan_80.push_back((*r)["ngan"]["theta_80"].get<double>());
         below_ngan += rec_full < n_full;
-        bars.push_back({(*r)["material"].get<std::string>(), rec_full, n_full});
+        bars.push_back({MaterialShortName((*r)["material"].get<std::string>()), rec_full, n_full});
       } else {
-        bars.push_back({(*r)["material"].get<std::string>(), rec_full, NAN});
+        bars.push_back({MaterialShortName((*r)["material"].get<std::string>()), rec_full, NAN});
       }
       if (r->contains("image_error")) {
         const nlohmann::json& im = (*r)["image_error"];
@@ -382,7 +382,9 @@ AccuracySummary ReduceAccuracy(const std::string& out_dir) {
                           device + " (" + std::to_string(ok) + " materials)",
                       cdf);
     WriteErrorBarPlot(out_dir + "/bars-" + tag + ".png",
-                      "recommended fit vs Ngan et al. 2005 dense fit, " + tag, bars);
+                      "hemisphere error of the recommended fit, " + rig + " order " +
+                          std::to_string(order) + ", " + device,
+                      bars);
     // Markdown.
     std::snprintf(line, sizeof(line), "\n### %s, order %d, %s (%d materials%s)\n\n", rig.c_str(),
                   order, device.c_str(), ok, failed ? (", " + std::to_string(failed) + " failed").c_str() : "");
