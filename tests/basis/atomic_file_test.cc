@@ -216,19 +216,37 @@ TEST_F(AtomicFileTest, PermissionDeniedNamesTheFolder) {
   EXPECT_STREQ(denied.what(),
                "permission denied writing out/m.bsdf: make out writable for you, "
                "or write elsewhere, and run the command again");
-  if (::geteuid() == 0) GTEST_SKIP() << "root writes to read-only folders";
+  // The operating system's refusal. Root writes to read-only folders, so as root the write is
+  // tried from a child process that has given up root for the unprivileged user 65534 (nobody).
   const std::string sub = dir_ + "/locked";
   fs::create_directories(sub);
-  fs::permissions(sub, fs::perms::owner_read | fs::perms::owner_exec);
-  try {
-    WriteFileAtomically(sub + "/f", "x");
-    FAIL() << "expected FileWriteError";
-  } catch (const FileWriteError& e) {
-    EXPECT_NE(std::string(e.what()).find("permission denied writing " + sub + "/f: make " + sub +
-                                         " writable"),
-              std::string::npos)
-        << e.what();
+  fs::permissions(dir_, fs::perms::owner_all | fs::perms::others_exec);
+  fs::permissions(sub, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::others_read |
+                           fs::perms::others_exec);
+  const std::string expected =
+      "permission denied writing " + sub + "/f: make " + sub + " writable";
+  // Exit codes of the child: 0 the expected error, 1 another message, 2 no error, 3 another
+  // exception, 4 could not drop root.
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (::geteuid() == 0 && (::setgid(65534) != 0 || ::setuid(65534) != 0)) ::_exit(4);
+    try {
+      WriteFileAtomically(sub + "/f", "x");
+    } catch (const FileWriteError& e) {
+      ::_exit(std::string(e.what()).find(expected) != std::string::npos ? 0 : 1);
+    } catch (...) {
+      ::_exit(3);
+    }
+    ::_exit(2);
   }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "0: the error '" << expected
+                                    << "...', 1: another message, 2: no error, 3: another "
+                                       "exception, 4: could not drop root";
+  EXPECT_FALSE(fs::exists(sub + "/f"));
   fs::permissions(sub, fs::perms::owner_all);
 }
 
