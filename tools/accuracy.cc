@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "acquisition/session.h"
@@ -73,17 +74,28 @@ std::map<std::string, std::pair<double, double>> NganBaseline() {
   return out;
 }
 
-// Relative RMSE of a model's ball against the truth's, under one environment.
-double BallError(const Brdf& model, const Brdf& truth, const Environment& env, int size, int spp,
-                 uint64_t seed) {
-  BallOptions o;
-  o.size = size;
-  o.spp = spp;
-  o.seed = seed;
-  const BallImage t = RenderBall(truth, &env, o);
-  const BallImage m = RenderBall(model, &env, o);
-  const BallImage black = RenderBall(*MakeBrdf("lambert:0"), &env, o);
-  const double norm = BallRmse(t, black);
+// The balls every image error is measured under: one environment and the render settings.
+struct BallScene {
+  const Environment* env = nullptr;
+  BallOptions options;
+  BallImage black;  // a black material's ball: the background alone, the error's norm
+};
+
+BallScene MakeBallScene(const Environment& env, int size, int spp, uint64_t seed) {
+  BallScene scene;
+  scene.env = &env;
+  scene.options.size = size;
+  scene.options.spp = spp;
+  scene.options.seed = seed;
+  scene.black = RenderBall(*MakeBrdf("lambert:0"), &env, scene.options);
+  return scene;
+}
+
+// Relative RMSE of a model's ball against the truth's, under one scene.
+double BallError(const Brdf& model, const Brdf& truth, const BallScene& scene) {
+  const BallImage t = RenderBall(truth, scene.env, scene.options);
+  const BallImage m = RenderBall(model, scene.env, scene.options);
+  const double norm = BallRmse(t, scene.black);
   return norm > 0 ? BallRmse(t, m) / norm : NAN;
 }
 
@@ -141,6 +153,12 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
   }
   fs::create_directories(options.out_dir);
   const Environment sky = Environment::Sky(), studio = Environment::Studio();
+  // The black balls are the same for every item: rendered once.
+  std::optional<BallScene> sky_scene, studio_scene;
+  if (options.images) {
+    sky_scene = MakeBallScene(sky, options.ball_size, options.ball_spp, options.seed);
+    studio_scene = MakeBallScene(studio, options.ball_size, options.ball_spp, options.seed);
+  }
   FitContext context;
   std::mutex mutex;
   AccuracySummary summary;
@@ -226,10 +244,8 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
       }
       if (options.images && outcome.truth) {
         row["image_error"] = {
-            {"sky", Num(BallError(*outcome.model, *outcome.truth, sky, options.ball_size,
-                                  options.ball_spp, options.seed))},
-            {"studio", Num(BallError(*outcome.model, *outcome.truth, studio, options.ball_size,
-                                     options.ball_spp, options.seed))}};
+            {"sky", Num(BallError(*outcome.model, *outcome.truth, *sky_scene))},
+            {"studio", Num(BallError(*outcome.model, *outcome.truth, *studio_scene))}};
       }
       if (const auto n = ngan.find(name); n != ngan.end() && MaterialDevice(it.material) == "merl") {
         row["ngan"] = {{"hemisphere", n->second.first}, {"theta_80", n->second.second}};
