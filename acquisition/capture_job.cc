@@ -301,8 +301,8 @@ CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& ca
   }
   const auto capture_start = std::chrono::steady_clock::now();
   result.capture = RunCapture(session, result.plan, patterns, camera, projector, clock, capture);
-  result.wall_capture_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - capture_start).count();
+  const auto last_frame = std::chrono::steady_clock::now();
+  result.wall_capture_s = std::chrono::duration<double>(last_frame - capture_start).count();
   if (result.capture.interrupted) return result;
   const int order = adaptive ? adaptive->order() : result.plan.order;
   result.zonal = processor.Finish(order);
@@ -329,6 +329,10 @@ CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& ca
     if (session.session().contains(key)) result.zonal.attributes[key] = session.session()[key];
   }
   WriteZonalExr(SessionPath(session.path(), kZonalFile), result.zonal);
+  result.ready_after_last_frame_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_frame).count();
+  processor.WaitForImages();
+  result.processing = processor.stats();
   result.complete = true;
   return result;
 }
@@ -406,6 +410,8 @@ ProcessResult ProcessSessionUnguarded(const std::string& session_dir,
     if (session.session().contains(key)) result.zonal.attributes[key] = session.session()[key];
   }
   WriteZonalExr(SessionPath(session_dir, kZonalFile), result.zonal);
+  processor.WaitForImages();
+  result.processing = processor.stats();
   return result;
 }
 

@@ -71,6 +71,9 @@ struct CaptureJobResult {
   ZonalData zonal;                 // empty if the capture was interrupted
   double predicted_capture_time_s = 0;
   double wall_capture_s = 0;       // wall time of the capture loop (includes rendering frames)
+  // Wall time from the last frame (the capture loop's end) to zonal.exr on disk: what processing
+  // did not finish while the capture ran (lobes are processed as their frames arrive).
+  double ready_after_last_frame_s = 0;
   double pattern_seconds = 0;
   double metered_exposure_us = 0;
   bool complete = false;

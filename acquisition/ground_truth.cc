@@ -1,11 +1,19 @@
 #include "acquisition/ground_truth.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/hash.h"
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/quadrature.h"
+#include "basis/spherical_harmonics.h"
+#include "brdf/fingerprint.h"
 
 namespace zbrdf {
 
@@ -76,19 +84,30 @@ GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
   const double sin2_lo = 1 - b * b, sin2_hi = 1 - a * a;
   const double projected = M_PI * (sin2_hi - sin2_lo);  // integral of cos over the zone
   const GaussLegendreRule cell_rule = GaussLegendre(2);
-  ParallelFor(cells, 4, [&](int64_t c0, int64_t c1) {
+  // An isotropic material is integrated at phi_r = 0 once per grid row and rotated (below);
+  // otherwise every cell is integrated at its 2 x 2 points.
+  const bool isotropic = material.IsIsotropic() && !material.IsDelta();
+  const int items = isotropic ? grid.n_theta : cells;
+  std::vector<std::array<std::vector<double>, 3>> row_sums(isotropic ? grid.n_theta : 0);
+  ParallelFor(items, isotropic ? 1 : 4, [&](int64_t c0, int64_t c1) {
     std::vector<double> z(n);
+    std::vector<Vec3> batch_in, batch_out;
+    std::vector<double> batch_scale;
+    std::vector<Rgb> batch_f;
+    std::vector<int> lobe_order;
     for (int64_t ci = c0; ci < c1; ++ci) {
-      const int cell = truth.cells[ci];
+      const int cell = isotropic ? static_cast<int>(ci) * grid.n_phi : truth.cells[ci];
       const int row = cell / grid.n_phi, col = cell % grid.n_phi;
       const double x0 = std::cos(grid.ThetaHigh(row)), x1 = std::cos(grid.ThetaLow(row));
       std::array<std::vector<double>, 3> sum;
       for (auto& s : sum) s.assign(n, 0.0);
       for (int qi = 0; qi < 2; ++qi) {
-        for (int qj = 0; qj < 2; ++qj) {
+        for (int qj = 0; qj < (isotropic ? 1 : 2); ++qj) {
           const double x = 0.5 * (x0 + x1) + 0.5 * (x1 - x0) * cell_rule.nodes[qi];
-          const double phi = (col + 0.5 + 0.5 * cell_rule.nodes[qj]) * grid.phi_step_rad;
-          const double w_cell = 0.25 * cell_rule.weights[qi] * cell_rule.weights[qj];
+          const double phi =
+              isotropic ? 0.0 : (col + 0.5 + 0.5 * cell_rule.nodes[qj]) * grid.phi_step_rad;
+          const double w_cell = isotropic ? 0.5 * cell_rule.weights[qi]
+                                          : 0.25 * cell_rule.weights[qi] * cell_rule.weights[qj];
           const double s = std::sqrt(std::max(0.0, 1 - x * x));
           const Vec3 w_r{s * std::cos(phi), s * std::sin(phi), x};
           auto add = [&](const Rgb& f_cos_over_p, const Vec3& w_i) {
@@ -110,11 +129,26 @@ GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
             }
           } else {
             // MIS: cosine-weighted over the zone and the glossy lobe, half the samples each.
-            const int half = options.samples / 2;
-            uint64_t state = Mix(options.seed ^ Mix(static_cast<uint64_t>(cell) * 4 + qi * 2 + qj));
+            // An isotropic row takes 8 times the samples of a cell: at 1/(n_phi / phi_stride) of the
+            // cells' cost it has a quarter of their noise variance.
+            const int half = (isotropic ? 8 : 1) * options.samples / 2;
+            const uint64_t point = isotropic ? (1ull << 40) + static_cast<uint64_t>(row) * 2 + qi
+                                             : static_cast<uint64_t>(cell) * 4 + qi * 2 + qj;
+            uint64_t state = Mix(options.seed ^ Mix(point));
             const uint32_t m0 = static_cast<uint32_t>(state), m1 = static_cast<uint32_t>(state >> 32);
             state = Mix(state);
             const uint32_t m2 = static_cast<uint32_t>(state), m3 = static_cast<uint32_t>(state >> 32);
+            // The lobe choice u_lobe is stratified too, but paired with the points in a random
+            // order: paired in index order it would correlate with the point's first coordinate
+            // (a digitally shifted i / n), and a mixture sampler (HalfVectorProxySampler picks
+            // its probe by u_lobe, its theta_h cell by u) would then draw each probe's samples
+            // from a fixed part of [0, 1): a bias no sample count removes.
+            lobe_order.resize(half);
+            for (int i = 0; i < half; ++i) lobe_order[i] = i;
+            for (int i = half - 1; i > 0; --i) {
+              state = Mix(state);
+              std::swap(lobe_order[i], lobe_order[static_cast<int>(state % static_cast<uint64_t>(i + 1))]);
+            }
             for (int strategy = 0; strategy < 2; ++strategy) {
               for (int i = 0; i < half; ++i) {
                 double u, v;
@@ -125,24 +159,63 @@ GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
                   const double st = std::sqrt(sin2), ct = std::sqrt(std::max(0.0, 1 - sin2));
                   w_i = {st * std::cos(2 * M_PI * v), st * std::sin(2 * M_PI * v), ct};
                 } else {
-                  const BrdfSample bs = material.SampleGlossy(w_r, (i + 0.5) / half, u, v);
+                  const BrdfSample bs = material.SampleGlossy(w_r, (lobe_order[i] + 0.5) / half, u, v);
                   if (bs.pdf <= 0) continue;
                   w_i = bs.w_i;
                 }
                 if (w_i.z < a || w_i.z > b) continue;
                 const double q = half * (w_i.z / projected) + half * material.GlossyPdf(w_r, w_i);
                 if (!(q > 0)) continue;
-                add(material.Eval(w_i, w_r) * (w_i.z / q), w_i);
+                batch_in.push_back(w_i);
+                batch_scale.push_back(w_i.z / q);
               }
             }
+            // One batched evaluation per exitant point (a network evaluates blocks much faster
+            // than single pairs); the sum runs in sample order as before.
+            batch_out.assign(batch_in.size(), w_r);
+            batch_f.resize(batch_in.size());
+            material.EvalBatch(batch_in, batch_out, batch_f);
+            for (size_t s = 0; s < batch_in.size(); ++s) add(batch_f[s] * batch_scale[s], batch_in[s]);
+            batch_in.clear();
+            batch_scale.clear();
           }
         }
+      }
+      if (isotropic) {
+        row_sums[ci] = std::move(sum);
+        continue;
       }
       for (int k = 0; k < n; ++k) {
         for (int ch = 0; ch < 3; ++ch) truth.value[k][ch][ci] = sum[ch][k];
       }
     }
   });
+  if (isotropic) {
+    // f_r(R w_i, R w_r) = f_r(w_i, w_r) for a rotation R by alpha about the normal, so with
+    // c = z_l,m and s = z_l,-m at phi_r = 0 (m > 0; Z_lm ~ cos(m phi), Z_l,-m ~ sin(m phi)):
+    //   z_l,m(alpha) = c cos(m alpha) - s sin(m alpha),  z_l,-m(alpha) = s cos(m alpha) + c sin(m alpha),
+    // and z_l0 does not depend on alpha. A cell's average takes the exact averages of
+    // cos(m alpha) and sin(m alpha) over its azimuth interval.
+    for (int ci = 0; ci < cells; ++ci) {
+      const int cell = truth.cells[ci];
+      const int row = cell / grid.n_phi, col = cell % grid.n_phi;
+      const double p0 = col * grid.phi_step_rad, p1 = (col + 1) * grid.phi_step_rad;
+      for (int l = 0; l <= layout.order; ++l) {
+        for (int ch = 0; ch < 3; ++ch) {
+          truth.value[ShIndex(l, 0)][ch][ci] = row_sums[row][ch][ShIndex(l, 0)];
+        }
+        for (int m = 1; m <= l; ++m) {
+          const double cos_avg = (std::sin(m * p1) - std::sin(m * p0)) / (m * (p1 - p0));
+          const double sin_avg = (std::cos(m * p0) - std::cos(m * p1)) / (m * (p1 - p0));
+          for (int ch = 0; ch < 3; ++ch) {
+            const double c = row_sums[row][ch][ShIndex(l, m)], s = row_sums[row][ch][ShIndex(l, -m)];
+            truth.value[ShIndex(l, m)][ch][ci] = c * cos_avg - s * sin_avg;
+            truth.value[ShIndex(l, -m)][ch][ci] = s * cos_avg + c * sin_avg;
+          }
+        }
+      }
+    }
+  }
   return truth;
 }
 
@@ -161,6 +234,76 @@ double CoefficientError(const ZonalData& measured, const GroundTruth& truth) {
     }
   }
   return norm > 0 ? std::sqrt(err / norm) : 0.0;
+}
+
+}  // namespace zbrdf
+
+namespace zbrdf {
+
+GroundTruth TrueZonalCoefficientsCached(const Brdf& material, const ZonalData& layout,
+                                        const GroundTruthOptions& options,
+                                        const std::string& cache_dir) {
+  if (cache_dir.empty()) return TrueZonalCoefficients(material, layout, options);
+  options.Validate();
+  // Bump the version when TrueZonalCoefficients changes its values for the same inputs.
+  char text[320];
+  const ExitantGrid& g = layout.grid;
+  std::snprintf(text, sizeof(text),
+                "zbrdf truth v4 zone %.17g %.17g grid %.17g %.17g %.17g %.17g %d %d order %d "
+                "samples %d phi_stride %d seed %llu material ",
+                layout.theta_min_rad, layout.theta_max_rad, g.theta_min_rad, g.theta_max_rad,
+                g.theta_step_rad, g.phi_step_rad, g.n_theta, g.n_phi, layout.order, options.samples,
+                options.phi_stride, static_cast<unsigned long long>(options.seed));
+  const std::string key = text + MaterialCacheKey(material);
+  char name[48];
+  std::snprintf(name, sizeof(name), "truth-%016llx.bin", static_cast<unsigned long long>(Fnv1a64(key)));
+  const std::string path = (std::filesystem::path(cache_dir) / name).string();
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // Layout: key, '\n', cells (uint32), functions (uint32), cells x int32, then per function
+    // and channel cells x double, then the FNV-1a of everything before it.
+    const size_t head = key.size() + 1 + 8;
+    if (bytes.size() > head + 8 && bytes.compare(0, key.size(), key) == 0 && bytes[key.size()] == '\n') {
+      uint32_t cells = 0, functions = 0;
+      std::memcpy(&cells, bytes.data() + key.size() + 1, 4);
+      std::memcpy(&functions, bytes.data() + key.size() + 5, 4);
+      const size_t body = static_cast<size_t>(cells) * 4 + static_cast<size_t>(functions) * 3 * cells * 8;
+      uint64_t stored = 0;
+      if (bytes.size() == head + body + 8) {
+        std::memcpy(&stored, bytes.data() + head + body, 8);
+        if (stored == Fnv1a64(bytes.data(), head + body)) {
+          GroundTruth truth;
+          truth.cells.resize(cells);
+          std::memcpy(truth.cells.data(), bytes.data() + head, cells * 4);
+          const char* p = bytes.data() + head + cells * 4;
+          truth.value.resize(functions);
+          for (auto& channels : truth.value) {
+            for (auto& v : channels) {
+              v.resize(cells);
+              std::memcpy(v.data(), p, cells * 8);
+              p += cells * 8;
+            }
+          }
+          return truth;
+        }
+      }
+    }
+  }
+  GroundTruth truth = TrueZonalCoefficients(material, layout, options);
+  std::string bytes = key + "\n";
+  const uint32_t cells = static_cast<uint32_t>(truth.cells.size());
+  const uint32_t functions = static_cast<uint32_t>(truth.value.size());
+  bytes.append(reinterpret_cast<const char*>(&cells), 4);
+  bytes.append(reinterpret_cast<const char*>(&functions), 4);
+  bytes.append(reinterpret_cast<const char*>(truth.cells.data()), cells * 4);
+  for (const auto& channels : truth.value) {
+    for (const auto& v : channels) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * 8);
+  }
+  const uint64_t sum = Fnv1a64(bytes);
+  bytes.append(reinterpret_cast<const char*>(&sum), 8);
+  WriteCacheFile(path, {bytes});  // a failure only means the next run computes it again
+  return truth;
 }
 
 }  // namespace zbrdf

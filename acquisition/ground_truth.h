@@ -8,10 +8,15 @@
 // Gauss-Legendre (psi) x trapezoid product rule over the zone for materials without a glossy
 // part (exact for polynomial BRDFs such as Lambertian), and otherwise multiple importance
 // sampling of the zone (cosine-weighted) and of the material's glossy lobe with a scrambled
-// (0,2)-net of `samples` points. A delta material (mirror) is evaluated in closed form.
+// (0,2)-net of `samples` points. A delta material (mirror) is evaluated in closed form. For an
+// isotropic material (Brdf::IsIsotropic) each grid row is integrated once, at phi_r = 0 (2
+// Gauss-Legendre points in cos theta_r, 8 x `samples` each), and each cell's value follows
+// exactly by rotating the (cos m phi, sin m phi) pair of every band and averaging over the
+// cell's azimuths.
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "acquisition/zonal.h"
@@ -37,6 +42,13 @@ struct GroundTruth {
 
 GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
                                   const GroundTruthOptions& options = {});
+
+// TrueZonalCoefficients through a cache folder (docs/simulator.md, "Caches"): one entry per
+// material (MaterialCacheKey), zone, exitant grid, order and options, written atomically
+// (concurrent processes may share the folder). Empty cache_dir: no cache.
+GroundTruth TrueZonalCoefficientsCached(const Brdf& material, const ZonalData& layout,
+                                        const GroundTruthOptions& options,
+                                        const std::string& cache_dir);
 
 // Relative L2 error of the measured z_k over the ground truth's cells (solid-angle weighted,
 // all functions and channels): ||z_measured - z_true|| / ||z_true||.

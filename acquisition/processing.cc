@@ -154,6 +154,11 @@ void ZonalProcessor::StopImageWriter() {
   image_writer_.join();
 }
 
+void ZonalProcessor::WaitForImages() {
+  StopImageWriter();
+  if (error_) std::rethrow_exception(error_);
+}
+
 void ZonalProcessor::Start() {
   // OpenEXR compresses the HDR images' line blocks on its own thread pool.
   if (Imf::globalThreadCount() < WorkerThreads()) Imf::setGlobalThreadCount(WorkerThreads());
@@ -443,8 +448,12 @@ ZonalData ZonalProcessor::Finish(int order) {
     cv_.notify_all();
     worker_.join();
   }
-  StopImageWriter();
-  if (error_) std::rethrow_exception(error_);
+  // The HDR images may still be on their way to disk (WaitForImages); the coefficients do not
+  // need them.
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (error_) std::rethrow_exception(error_);
+  }
   SynthesizeIsotropic();
   if (next_lobe_ < lobes_needed) {
     throw InputError("processing incomplete: " + std::to_string(next_lobe_) + " of " +

@@ -73,6 +73,10 @@ class ZonalProcessor {
   // The same for the plan truncated to `order` (<= the plan's): every lobe of bands <= order must
   // have been added; functions of higher bands already processed are dropped (adaptive capture).
   ZonalData Finish(int order);
+  // Finish does not wait for the HDR images (hdr/) still queued for writing: this does, and
+  // rethrows a failure to write one. Call it after writing zonal.exr, so that the coefficients
+  // are on disk as soon as the last lobe is processed.
+  void WaitForImages();
   // Waits until every lobe added so far is processed; rethrows a processing error. Then
   // Function() may be read until the next AddLobe.
   void Wait();

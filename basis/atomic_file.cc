@@ -169,6 +169,28 @@ void WriteFileAtomically(const std::string& path, const std::string& bytes) {
   SyncDirectory(FolderOf(path));
 }
 
+bool WriteCacheFile(const std::string& path, const std::vector<std::string_view>& parts) {
+  std::error_code error;
+  fs::create_directories(FolderOf(path), error);
+  const std::string tmp = TemporaryFileName(path);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return false;
+  bool ok = true;
+  for (std::string_view part : parts) {
+    size_t written = 0;
+    while (ok && written < part.size()) {
+      const ssize_t done = ::write(fd, part.data() + written, part.size() - written);
+      if (done < 0 && errno == EINTR) continue;
+      if (done <= 0) ok = false;
+      else written += static_cast<size_t>(done);
+    }
+  }
+  if (::close(fd) != 0) ok = false;
+  if (ok && std::rename(tmp.c_str(), path.c_str()) == 0) return true;
+  ::unlink(tmp.c_str());
+  return false;
+}
+
 void AppendToFile(const std::string& path, const std::string& bytes) {
   const WriteFaultPlan fault = FaultFor(path);
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "basis/error.h"
@@ -58,6 +59,14 @@ void AppendToFile(const std::string& path, const std::string& bytes);
 // Cuts the file at path to `length` bytes and fsyncs it (a journal's torn last line).
 // FileWriteError on failure.
 void TruncateFile(const std::string& path, uint64_t length);
+
+// Writes a cache entry: the parts, in order, to a temporary file in path's folder, renamed over
+// path. No fsync (an entry lost to a power cut is rebuilt, and its reader checks it whole) and
+// not a fault-injection site: a cache is never what a crash test protects. Concurrent writers of
+// the same entry are safe (each renames a whole file; the last one stays). Returns false, leaving
+// no temporary file and the previous entry (if any), when the folder cannot be created or the
+// disk is full: callers go on without the cache.
+bool WriteCacheFile(const std::string& path, const std::vector<std::string_view>& parts);
 
 // The temporary name WriteFileAtomically uses for path in this process.
 std::string TemporaryFileName(const std::string& path);

@@ -37,6 +37,7 @@ class AshikhminShirleyBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // True when rd <= 1 in every channel.
   bool IsEnergyConserving() const override;
+  bool IsIsotropic() const override { return nu_ == nv_; }
   // "as:rd=..,rs=..,nu=..,nv=..".
   std::string Spec() const override;
 

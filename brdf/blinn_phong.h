@@ -27,6 +27,7 @@ class BlinnPhongBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // False: the (n + 8) / (8 pi) normalization is approximate (see above).
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return true; }
   // "blinn-phong:kd=..,ks=..,n=..".
   std::string Spec() const override;
 

@@ -71,6 +71,9 @@ class Brdf {
   // (for physically valid parameters).
   virtual bool IsEnergyConserving() const = 0;
   virtual bool IsDelta() const { return false; }
+  // f_r(R w_i, R w_o) == f_r(w_i, w_o) for every rotation R about the normal, by construction.
+  // Integrators may then work at one azimuth and rotate (acquisition/ground_truth.h).
+  virtual bool IsIsotropic() const { return false; }
 
   // A material spec (see material_spec.h) that recreates this model, e.g. "lambert:0.18".
   virtual std::string Spec() const = 0;

@@ -78,6 +78,7 @@ class DBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // False: the albedo depends on c and the shape of p; nothing bounds it by construction.
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return params_.p_h.phi_samples == 1; }
   // "dbrdf:c=..,F0=..,kd=..,theta_samples=N,phi_samples=M,p=p0,p1,..." (every table value).
   std::string Spec() const override;
 

@@ -38,6 +38,7 @@ class GgxBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // True when kd is black (see above).
   bool IsEnergyConserving() const override;
+  bool IsIsotropic() const override { return alpha_x_ == alpha_y_; }
   // "ggx:alpha=..,F0=..,kd=.." when isotropic, else "ggx:alpha_x=..,alpha_y=..,F0=..,kd=..".
   std::string Spec() const override;
 

@@ -22,6 +22,7 @@ class LambertianBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // True when every channel of albedo is <= 1.
   bool IsEnergyConserving() const override;
+  bool IsIsotropic() const override { return true; }
   // "lambert:albedo=A" (A one value or r,g,b).
   std::string Spec() const override;
 

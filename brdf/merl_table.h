@@ -78,6 +78,7 @@ class MerlBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // False: measured data carry no such guarantee.
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return true; }  // MERL tables are isotropic
   std::string Spec() const override { return spec_; }
 
   const MerlTable& table() const { return table_; }

@@ -67,6 +67,7 @@ class NbrdfBrdf final : public Brdf {
   double GlossyProbability(const Vec3& w_o) const override;
   bool IsReciprocal() const override { return false; }
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return true; }  // fitted to isotropic MERL tables
   std::string Spec() const override { return spec_; }
 
   const NbrdfNetwork& network() const { return network_; }

@@ -103,17 +103,24 @@ Vec3 HalfVectorProxySampler::SampleHalfVector(const Probe& probe, double u0, dou
 
 double HalfVectorProxySampler::CellDensity(const Probe& probe, const Vec3& h) const {
   if (!probe.cells || h.z < 0) return 0.0;
+  return probe.cell_density[CellOf(h)];
+}
+
+int HalfVectorProxySampler::CellOf(const Vec3& h) {
   // Cell of theta_h: x = sqrt(theta_h / (pi/2)).
   const double x = std::sqrt(SphericalTheta(h) / (0.5 * M_PI));
-  const int k = std::clamp(static_cast<int>(x * kCells), 0, kCells - 1);
-  return probe.cell_density[k];
+  return std::clamp(static_cast<int>(x * kCells), 0, kCells - 1);
 }
 
 double HalfVectorProxySampler::LobeProbability(const Vec3& w_o) const {
   if (w_o.z <= 0) return 0.0;
+  return LobeProbabilityAt(SphericalTheta(w_o));
+}
+
+double HalfVectorProxySampler::LobeProbabilityAt(double theta_o_rad) const {
   int k;
   double a;
-  Bracket(SphericalTheta(w_o), &k, &a);
+  Bracket(theta_o_rad, &k, &a);
   return a * probes_[k].lobe_probability + (1 - a) * probes_[k + 1].lobe_probability;
 }
 
@@ -124,7 +131,12 @@ double HalfVectorProxySampler::HalfVectorPdf(double theta_o_rad, const Vec3& h) 
   const double pk = a * probes_[k].lobe_probability;
   const double pk1 = (1 - a) * probes_[k + 1].lobe_probability;
   if (!(pk + pk1 > 0)) return 0.0;
-  return (pk * CellDensity(probes_[k], h) + pk1 * CellDensity(probes_[k + 1], h)) / (pk + pk1);
+  // The theta_h cell once for both probes (the same value CellDensity finds).
+  const int cell = h.z < 0 ? 0 : CellOf(h);
+  const auto density = [&](const Probe& probe) {
+    return !probe.cells || h.z < 0 ? 0.0 : probe.cell_density[cell];
+  };
+  return (pk * density(probes_[k]) + pk1 * density(probes_[k + 1])) / (pk + pk1);
 }
 
 BrdfSample HalfVectorProxySampler::Sample(const Vec3& w_o, double u_lobe, double u0,
@@ -150,7 +162,7 @@ BrdfSample HalfVectorProxySampler::Sample(const Vec3& w_o, double u_lobe, double
 double HalfVectorProxySampler::Pdf(const Vec3& w_o, const Vec3& w_i) const {
   if (w_o.z <= 0) return 0.0;
   const double theta_o = SphericalTheta(w_o);
-  const double p = LobeProbability(w_o);
+  const double p = LobeProbabilityAt(theta_o);
   double lobe = 0;
   Vec3 h;
   if (p > 0 && UpperHalfVector(w_i, w_o, &h)) {

@@ -54,6 +54,8 @@ class HalfVectorProxySampler {
   void Bracket(double theta_o_rad, int* k, double* a_k) const;
   Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
   double CellDensity(const Probe& probe, const Vec3& h) const;
+  static int CellOf(const Vec3& h);  // theta_h cell of h (h.z >= 0)
+  double LobeProbabilityAt(double theta_o_rad) const;
 
   std::vector<double> theta_edges_, cos_edges_;
   std::vector<Probe> probes_;

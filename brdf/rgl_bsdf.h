@@ -81,6 +81,7 @@ class RglBrdf final : public Brdf {
   double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
   bool IsReciprocal() const override { return false; }
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return isotropic_; }
   // "file:PATH" (readable by zbrdf's INPUT resolution, not by MakeBrdf).
   std::string Spec() const override { return "file:" + path_; }
 

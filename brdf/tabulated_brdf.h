@@ -94,6 +94,7 @@ class TabulatedBrdf final : public Brdf {
   bool IsReciprocal() const override { return true; }
   // False: a table reconstructed from data carries no such guarantee.
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return true; }  // the half/difference grid is
   std::string Spec() const override { return spec_; }
 
   const HalfDiffGrid& grid() const { return grid_; }

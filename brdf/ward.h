@@ -33,6 +33,7 @@ class WardBrdf final : public Brdf {
   double GlossyProbability(const Vec3&) const override { return specular_probability_; }
   bool IsReciprocal() const override { return true; }
   bool IsEnergyConserving() const override { return false; }
+  bool IsIsotropic() const override { return alpha_x_ == alpha_y_; }
   // "ward:rho_d=..,rho_s=..,alpha_x=..,alpha_y=..".
   std::string Spec() const override;
 

@@ -27,5 +27,9 @@ function(zbrdf_test_folder name)
     ZBRDF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ZBRDF_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data"
     ZBRDF_BINARY_DIR="${PROJECT_BINARY_DIR}")
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS ${name})
+  # Every test process shares the build tree's cache (direction maps, light transports, true
+  # coefficients): a transport one test builds, the next one with the same rig, material and seed
+  # reads (entries are written by atomic rename, so concurrent tests are safe).
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS ${name}
+                       ENVIRONMENT "ZBRDF_CACHE_DIR=${PROJECT_BINARY_DIR}/test-cache")
 endfunction()

@@ -245,7 +245,12 @@ bool ReadMap(std::ifstream& in, DirectionMap* m) {
 
 bool ProjectorDirectionGrid::Lookup(const Vec3& w, double* px_out, double* py_out) const {
   if (w.z <= 0 || n_theta == 0) return false;
-  const double theta = SphericalTheta(w), phi = SphericalPhi(w);
+  return LookupAngles(SphericalTheta(w), SphericalPhi(w), px_out, py_out);
+}
+
+bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_out,
+                                          double* py_out) const {
+  if (n_theta == 0) return false;
   const double fi = theta / step_rad, fj = phi / step_rad;
   const int i = static_cast<int>(fi), j = static_cast<int>(fj);
   if (i + 1 >= n_theta) return false;

@@ -45,6 +45,9 @@ struct ProjectorDirectionGrid {
   // Bilinear interpolation of the coordinates between the four surrounding nodes; false if
   // any of them is uncovered (callers trace such directions exactly).
   bool Lookup(const Vec3& w, double* px_out, double* py_out) const;
+  // The same for a direction above the horizon given by its angles (SphericalTheta and
+  // SphericalPhi of w), for callers that already have them.
+  bool LookupAngles(double theta_rad, double phi_rad, double* px_out, double* py_out) const;
 };
 
 // Number of moments per projector pixel (see RigMaps::projector_moments).

@@ -7,13 +7,21 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 
+#include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/hash.h"
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/zone.h"
+#include "brdf/fingerprint.h"
 
 namespace zbrdf {
 
@@ -140,8 +148,12 @@ class Coverage {
 
   double Pdf(const Vec3& w) const {
     if (w.z <= 0) return 0;
-    const int j = Column(w);
-    const double theta = SphericalTheta(w);
+    return PdfAngles(w, SphericalTheta(w), SphericalPhi(w));
+  }
+  // The same given w's SphericalTheta and SphericalPhi.
+  double PdfAngles(const Vec3& w, double theta, double phi) const {
+    if (w.z <= 0) return 0;
+    const int j = std::min(static_cast<int>(phi / step_), n_phi_ - 1);
     return theta >= lo_[j] && theta <= hi_[j] ? w.z * inverse_projected_solid_angle_ : 0.0;
   }
 
@@ -149,9 +161,6 @@ class Coverage {
   double theta_max() const { return theta_max_; }
 
  private:
-  int Column(const Vec3& w) const {
-    return std::min(static_cast<int>(SphericalPhi(w) / step_), n_phi_ - 1);
-  }
   static double Sin2(double theta) { return std::sin(theta) * std::sin(theta); }
   double step_;
   int n_phi_;
@@ -183,8 +192,140 @@ ForwardModel::ForwardModel(const OpticalSystem& optics, const RigMaps& maps, con
                                         rig.sensor.quantum_efficiency * kPhotonsPerJoule550nm;
     }
   }
-  BuildTransport(material);
+  const bool use_cache = !options_.cache_dir.empty() && options_.cache_max_bytes > 0;
+  std::string key, path;
+  if (use_cache) {
+    key = CacheKey(material);
+    char name[48];
+    std::snprintf(name, sizeof(name), "transport-%016llx.bin",
+                  static_cast<unsigned long long>(Fnv1a64(key)));
+    path = (std::filesystem::path(options_.cache_dir) / name).string();
+    from_cache_ = LoadCached(path, key);
+  }
+  if (!from_cache_) {
+    BuildTransport(material);
+    if (use_cache) SaveCached(path, key);
+  }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+uint64_t DefaultTransportCacheBytes() {
+  if (const char* mb = std::getenv("ZBRDF_TRANSPORT_CACHE_MB"); mb && *mb) {
+    char* end = nullptr;
+    const double value = std::strtod(mb, &end);
+    if (end != mb && *end == '\0' && value >= 0) return static_cast<uint64_t>(value * 1e6);
+  }
+  return 4'000'000'000ull;
+}
+
+namespace {
+
+constexpr char kTransportMagic[8] = {'Z', 'B', 'R', 'D', 'F', 'T', 'R', 'N'};
+constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
+// Bump when BuildTransport's output changes for the same inputs.
+constexpr uint32_t kTransportVersion = 1;
+
+template <typename T>
+std::string_view Bytes(const std::vector<T>& v) {
+  return {reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)};
+}
+
+// Removes the least recently used transport entries until the folder holds at most max_bytes.
+void TrimTransportCache(const std::filesystem::path& folder, uint64_t max_bytes) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  std::vector<std::pair<fs::file_time_type, fs::path>> entries;
+  uint64_t total = 0;
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("transport-", 0) != 0 || entry.path().extension() != ".bin") continue;
+    const uint64_t size = entry.file_size(error);
+    if (error) continue;
+    total += size;
+    entries.emplace_back(entry.last_write_time(error), entry.path());
+  }
+  std::sort(entries.begin(), entries.end());
+  for (const auto& [time, entry_path] : entries) {
+    if (total <= max_bytes) break;
+    const uint64_t size = fs::file_size(entry_path, error);
+    if (!error && fs::remove(entry_path, error)) total -= size;
+  }
+}
+
+}  // namespace
+
+std::string ForwardModel::CacheKey(const Brdf& material) const {
+  char text[160];
+  std::snprintf(text, sizeof(text), "zbrdf transport v%u rig %016llx seed %llu row_stride %d material ",
+                kTransportVersion, static_cast<unsigned long long>(RigHash(optics_.rig())),
+                static_cast<unsigned long long>(options_.seed), options_.row_stride);
+  return text + MaterialCacheKey(material);
+}
+
+// Layout: magic, version, key length, key, pixels, entries, row_begin (pixels + 1 int64),
+// index (uint32), weight (float), control (pixels x kFootprintMoments float), end magic.
+bool ForwardModel::LoadCached(const std::string& path, const std::string& key) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  char magic[8];
+  uint32_t version = 0, key_size = 0;
+  if (!in.read(magic, 8) || std::memcmp(magic, kTransportMagic, 8) != 0 ||
+      !in.read(reinterpret_cast<char*>(&version), 4) || version != kTransportVersion ||
+      !in.read(reinterpret_cast<char*>(&key_size), 4) || key_size != key.size()) {
+    return false;
+  }
+  std::string stored(key_size, '\0');
+  uint64_t pixels = 0, entries = 0;
+  const uint64_t camera_pixels = camera_constant_.size();
+  if (!in.read(stored.data(), key_size) || stored != key ||
+      !in.read(reinterpret_cast<char*>(&pixels), 8) || pixels != camera_pixels ||
+      !in.read(reinterpret_cast<char*>(&entries), 8) || entries > (1ull << 34)) {
+    return false;
+  }
+  std::vector<int64_t> row_begin(pixels + 1);
+  std::vector<uint32_t> index(entries);
+  std::vector<float> weight(entries), control(pixels * kFootprintMoments);
+  auto read = [&](auto& v) {
+    return static_cast<bool>(in.read(reinterpret_cast<char*>(v.data()), v.size() * sizeof(v[0])));
+  };
+  if (!read(row_begin) || !read(index) || !read(weight) || !read(control) || !in.read(magic, 8) ||
+      std::memcmp(magic, kTransportEnd, 8) != 0 || in.peek() != std::char_traits<char>::eof()) {
+    return false;
+  }
+  // A damaged entry must not index out of range: rows ascend within [0, entries].
+  if (row_begin[0] != 0 || row_begin[pixels] != static_cast<int64_t>(entries)) return false;
+  for (uint64_t p = 0; p < pixels; ++p) {
+    if (row_begin[p + 1] < row_begin[p]) return false;
+  }
+  const uint32_t projector_pixels = static_cast<uint32_t>(optics_.rig().projector.lens.width) *
+                                    static_cast<uint32_t>(optics_.rig().projector.lens.height);
+  for (uint32_t j : index) {
+    if (j >= projector_pixels) return false;
+  }
+  row_begin_ = std::move(row_begin);
+  index_ = std::move(index);
+  weight_ = std::move(weight);
+  control_ = std::move(control);
+  // The entry was used: it is the most recently used one when the folder is trimmed.
+  std::error_code error;
+  std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now(), error);
+  return true;
+}
+
+void ForwardModel::SaveCached(const std::string& path, const std::string& key) const {
+  const uint32_t version = kTransportVersion, key_size = static_cast<uint32_t>(key.size());
+  const uint64_t pixels = row_begin_.size() - 1, entries = index_.size();
+  const uint64_t bytes = 8 + 4 + 4 + key.size() + 16 + row_begin_.size() * 8 + entries * 8 +
+                         control_.size() * 4 + 8;
+  if (bytes > options_.cache_max_bytes) return;
+  auto raw = [](const auto& value) {
+    return std::string_view(reinterpret_cast<const char*>(&value), sizeof(value));
+  };
+  const bool written = WriteCacheFile(
+      path, {std::string_view(kTransportMagic, 8), raw(version), raw(key_size), key, raw(pixels),
+             raw(entries), Bytes(row_begin_), Bytes(index_), Bytes(weight_), Bytes(control_),
+             std::string_view(kTransportEnd, 8)});
+  if (written) TrimTransportCache(std::filesystem::path(path).parent_path(), options_.cache_max_bytes);
 }
 
 double ForwardModel::ProjectorPathTransmission() const {
@@ -214,6 +355,15 @@ void ForwardModel::BuildTransport(const Brdf& material) {
       if (!proj.in_front || !proj.in_aperture) return -1;
       px = proj.px;
       py = proj.py;
+    }
+    if (px < 0 || py < 0 || px >= proj_w || py >= proj_h) return -1;
+    return static_cast<int64_t>(py) * proj_w + static_cast<int64_t>(px);
+  };
+  // projector_pixel({0, 0, 0}, w_i, false) for w_i above the horizon with known angles.
+  auto projector_pixel_at_center = [&](const Vec3& w_i, std::pair<double, double> angles) -> int64_t {
+    double px, py;
+    if (!maps_.grid.LookupAngles(angles.first, angles.second, &px, &py)) {
+      return projector_pixel({0, 0, 0}, w_i, true);
     }
     if (px < 0 || py < 0 || px >= proj_w || py >= proj_h) return -1;
     return static_cast<int64_t>(py) * proj_w + static_cast<int64_t>(px);
@@ -251,6 +401,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<Vec3> w_in(std::max(n, kProbes)), w_out(std::max(n, kProbes));
     std::vector<Rgb> f(std::max(n, kProbes));
     std::vector<double> weight(n);
+    std::vector<std::pair<double, double>> angles(n);
     std::vector<std::pair<double, int>> probe_values(kProbes);
     for (int64_t y = y0; y < y1; ++y) {
       std::vector<Entry>& row = rows[y];
@@ -350,13 +501,15 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               w_i = bs.w_i;
             }
             if (w_i.z <= 0) continue;
-            const double p_zone = coverage.Pdf(w_i);
+            const double theta_i = SphericalTheta(w_i), phi_i = SphericalPhi(w_i);
+            const double p_zone = coverage.PdfAngles(w_i, theta_i, phi_i);
             if (p_zone <= 0) continue;  // not lit
             const double q = n_zone * p_zone + (n_lobe > 0 ? n_lobe * material.GlossyPdf(path.w, w_i) : 0.0);
             weight[m] = 1.0 / q;  // balance heuristic: f cos / (n_zone p_zone + n_lobe p_lobe)
             if (!(weight[m] > 0) || !std::isfinite(weight[m])) continue;
             w_in[m] = w_i;
             w_out[m] = path.w;
+            angles[m] = {theta_i, phi_i};
             ++m;
           }
           material.EvalBatch(std::span<const Vec3>(w_in.data(), m),
@@ -369,7 +522,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             const double value =
                 ((channel < 0 ? f[i].Luminance() : f[i][channel]) - control) * w_in[i].z * weight[i];
             if (value == 0 || !std::isfinite(value)) continue;
-            const int64_t index = projector_pixel({0, 0, 0}, w_in[i], false);
+            const int64_t index = projector_pixel_at_center(w_in[i], angles[i]);
             if (index < 0) continue;
             entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k_pixel * value)});
           }
@@ -497,7 +650,8 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
           h = HashMix(h);
           return UniformFromHash(h);
         };
-        if (electrons < 30) {
+        const bool poisson = electrons < 30;
+        if (poisson) {
           // Poisson by multiplication of uniforms (Knuth), exact for small means.
           const double limit = std::exp(-electrons);
           double product = next();
@@ -507,14 +661,18 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
             ++count;
           }
           electrons = count;
-        } else {
-          // Normal approximation N(mu, mu) (Box-Muller): variance exact, skew < 1/sqrt(30).
-          const double u1 = std::max(next(), 1e-300), u2 = next();
-          electrons += std::sqrt(electrons) * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+        }
+        // Box-Muller gives two independent standard normals from one pair of uniforms: the
+        // read noise, and (above 30 electrons) the shot noise as N(mu, mu), whose variance is
+        // exact and skew < 1/sqrt(30).
+        const double u1 = std::max(next(), 1e-300), u2 = next();
+        const double radius = std::sqrt(-2 * std::log(u1));
+        const double normal_read = radius * std::cos(2 * M_PI * u2);
+        if (!poisson) {
+          electrons += std::sqrt(electrons) * radius * std::sin(2 * M_PI * u2);
           electrons = std::max(0.0, electrons);
         }
-        const double u1 = std::max(next(), 1e-300), u2 = next();
-        read = s.read_noise_e * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+        read = s.read_noise_e * normal_read;
       }
       electrons = std::min(electrons, s.full_well_e);
       const double dn = s.dark_level_dn + (electrons + read) / s.gain_e_per_dn;

@@ -25,6 +25,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "basis/progress.h"
@@ -36,12 +37,22 @@
 
 namespace zbrdf {
 
+// $ZBRDF_TRANSPORT_CACHE_MB megabytes if set (0 turns the cache off), else 4 GB.
+uint64_t DefaultTransportCacheBytes();
+
 struct ForwardModelOptions {
   uint64_t seed = 1;  // selects the sample points (and, with noise_key, the sensor noise)
   // Integrate only camera rows y with y % row_stride == 0 (the others read 0): quick looks and
   // convergence studies at many samples.
   int row_stride = 1;
   ProgressCallback progress;
+  // Folder of the transport cache (docs/simulator.md, "Transport cache"); empty: no cache. An
+  // entry is keyed by the rig (RigHash), the material (MaterialCacheKey), seed and row_stride,
+  // so every capture, order and session of the same rig and material shares one build.
+  std::string cache_dir;
+  // The cache folder is trimmed to this many bytes after a write, least recently used entries
+  // first; an entry larger than this is not written. 0: the cache is neither read nor written.
+  uint64_t cache_max_bytes = DefaultTransportCacheBytes();
 
   // Throws InvalidOptions (an InputError) naming every field out of range and the values it
   // accepts (basis/option_checker.h).
@@ -77,11 +88,16 @@ class ForwardModel {
   size_t transport_entries() const { return index_.size(); }
 
   double build_seconds() const { return build_seconds_; }
+  // Whether the transport came from the cache (else it was built, and written there if allowed).
+  bool from_cache() const { return from_cache_; }
   const OpticalSystem& optics() const { return optics_; }
   const RigMaps& maps() const { return maps_; }
 
  private:
   void BuildTransport(const Brdf& material);
+  std::string CacheKey(const Brdf& material) const;
+  bool LoadCached(const std::string& path, const std::string& key);
+  void SaveCached(const std::string& path, const std::string& key) const;
 
   const OpticalSystem& optics_;
   const RigMaps& maps_;
@@ -93,6 +109,7 @@ class ForwardModel {
   // Per camera pixel, kFootprintMoments control-variate coefficients times the pixel's constant.
   std::vector<float> control_;
   double build_seconds_ = 0;
+  bool from_cache_ = false;
 };
 
 // Counter-based random numbers (SplitMix64): the same (key, index) always gives the same value.

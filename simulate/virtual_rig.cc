@@ -114,6 +114,10 @@ void VirtualRig::SetMaterial(std::shared_ptr<const Brdf> material) {
   ForwardModelOptions model_options;
   model_options.seed = options_.seed;
   model_options.progress = options_.progress;
+  if (options_.transport_cache) {
+    model_options.cache_dir =
+        (options_.cache_dir.empty() ? DefaultCacheDir() : options_.cache_dir) + "/transport";
+  }
   model_ = std::make_unique<ForwardModel>(*optics_, *maps_, *material_, model_options);
   ++material_generation_;
 }

@@ -64,7 +64,8 @@ class VirtualRig {
   struct Options {
     uint64_t seed = 1;
     bool noise = true;
-    std::string cache_dir;  // direction-map cache; empty: DefaultCacheDir()
+    std::string cache_dir;  // direction maps, and transports under transport/; empty: DefaultCacheDir()
+    bool transport_cache = true;  // reuse the light transport of the same rig, material and seed
     ProgressCallback progress;
   };
 

@@ -157,7 +157,8 @@ class MaterialBench {
         layout.order = truth_order;
         GroundTruthOptions truth_options;
         truth_options.samples = options_.truth_samples;
-        truth_ = TrueZonalCoefficients(*material_, layout, truth_options);
+        truth_ = TrueZonalCoefficientsCached(*material_, layout, truth_options,
+                                             DefaultCacheDir() + "/truth");
       }
     }
     row["coefficient_error"] = Num(PaddedCoefficientError(zonal, truth_, s.order));

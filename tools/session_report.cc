@@ -27,6 +27,8 @@ nlohmann::json CaptureJobReport(const CaptureJobResult& r, double device_time_s)
   j["exposures_us"] = r.plan.exposures_us;
   j["capture_time_model_s"] = device_time_s;
   j["capture_time_predicted_s"] = r.predicted_capture_time_s;
+  // Processing streams with the capture: zonal.exr was on disk this long after the last frame.
+  if (r.complete) j["ready_after_last_frame_s"] = r.ready_after_last_frame_s;
   j["saturated_pixel_lobes"] = r.processing.saturated_pixels;
   j["grid_cells_filled"] = r.processing.filled_cells;
   j["grid"] = {{"theta_step_deg", RadToDeg(r.zonal.grid.theta_step_rad)},
@@ -79,6 +81,11 @@ std::string FormatCaptureSummary(const nlohmann::json& j) {
   std::snprintf(buf, sizeof(buf), "  capture time on the rig: %.1f s (predicted %.1f s)\n",
                 j["capture_time_model_s"].get<double>(), j["capture_time_predicted_s"].get<double>());
   out += buf;
+  if (j.contains("ready_after_last_frame_s")) {
+    std::snprintf(buf, sizeof(buf), "  zonal.exr written %.2f s after the last frame\n",
+                  j["ready_after_last_frame_s"].get<double>());
+    out += buf;
+  }
   if (j.value("frames_reused", 0) > 0) {
     std::snprintf(buf, sizeof(buf), "  resumed: %d frames kept from earlier runs, %d captured\n",
                   j.value("frames_reused", 0), j.value("frames_captured", 0));

@@ -100,7 +100,8 @@ int RunSimulate(const std::vector<std::string>& argv) {
   GroundTruthOptions truth_options;
   truth_options.samples = 1;
   while (truth_options.samples < truth_samples) truth_options.samples *= 2;
-  const GroundTruth truth = TrueZonalCoefficients(material, result.zonal, truth_options);
+  const GroundTruth truth =
+      TrueZonalCoefficientsCached(material, result.zonal, truth_options, DefaultCacheDir() + "/truth");
   const double error = CoefficientError(result.zonal, truth);
   const auto t_truth = SteadyTime::now();
 
