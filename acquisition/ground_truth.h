@@ -10,7 +10,7 @@
 // sampling of the zone (cosine-weighted) and of the material's glossy lobe with a scrambled
 // (0,2)-net of `samples` points. A delta material (mirror) is evaluated in closed form. For an
 // isotropic material (Brdf::IsIsotropic) each grid row is integrated once, at phi_r = 0 (2
-// Gauss-Legendre points in cos theta_r, 8 x `samples` each), and each cell's value follows
+// Gauss-Legendre points in cos theta_r, 4 x `samples` each), and each cell's value follows
 // exactly by rotating the (cos m phi, sin m phi) pair of every band and averaging over the
 // cell's azimuths.
 #pragma once
