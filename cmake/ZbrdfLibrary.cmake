@@ -1,13 +1,22 @@
-# zbrdf_precompile_common_headers(TARGET [EXTRA...]): the standard, Eigen and JSON headers most
-# sources include, parsed once per target instead of once per source (a clean build on 2 cores
-# spends most of its time parsing them). Sources still include what they use; the layering and
-# write-site tests read the sources, not this list. ZBRDF_PCH=OFF turns it off.
-option(ZBRDF_PCH "precompile the common headers of each target" ON)
-function(zbrdf_precompile_common_headers target)
-  if(ZBRDF_PCH)
+# zbrdf_precompile_common_headers(TARGET KIND [EXTRA...]): the standard, Eigen and JSON headers
+# most sources include (and EXTRA), parsed once instead of once per source: a clean build on 2
+# cores spent most of its time parsing them. The first target of a KIND ("library", "test")
+# compiles the header and the others of that kind reuse it (their compile flags are the same).
+# Sources still include what they use; the layering and write-site tests read the sources, not
+# this list. -DZBRDF_PCH=OFF turns it off.
+option(ZBRDF_PCH "precompile the common headers (one per kind of target)" ON)
+function(zbrdf_precompile_common_headers target kind)
+  if(NOT ZBRDF_PCH)
+    return()
+  endif()
+  get_property(host GLOBAL PROPERTY ZBRDF_PCH_HOST_${kind})
+  if(host)
+    target_precompile_headers(${target} REUSE_FROM ${host})
+  else()
     target_precompile_headers(${target} PRIVATE
       <algorithm> <array> <cmath> <cstdint> <functional> <map> <memory> <string> <vector>
       <Eigen/Dense> <nlohmann/json.hpp> ${ARGN})
+    set_property(GLOBAL PROPERTY ZBRDF_PCH_HOST_${kind} ${target})
   endif()
 endfunction()
 
@@ -20,7 +29,7 @@ function(zbrdf_library name)
     add_library(${name} STATIC ${sources})
     target_include_directories(${name} PUBLIC "${PROJECT_SOURCE_DIR}")
     target_link_libraries(${name} PUBLIC ${ARGN})
-    zbrdf_precompile_common_headers(${name})
+    zbrdf_precompile_common_headers(${name} library)
   else()  # a folder whose sources have not landed yet
     add_library(${name} INTERFACE)
     target_include_directories(${name} INTERFACE "${PROJECT_SOURCE_DIR}")
@@ -37,7 +46,7 @@ function(zbrdf_test_folder name)
   endif()
   add_executable(${name} ${sources})
   target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
-  zbrdf_precompile_common_headers(${name} <gtest/gtest.h> <filesystem>)
+  zbrdf_precompile_common_headers(${name} test <gtest/gtest.h> <filesystem>)
   target_compile_definitions(${name} PRIVATE
     ZBRDF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ZBRDF_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data"
