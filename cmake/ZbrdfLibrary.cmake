@@ -1,23 +1,29 @@
 # zbrdf_precompile_common_headers(TARGET KIND [EXTRA...]): the standard, Eigen and JSON headers
 # most sources include (and EXTRA), parsed once instead of once per source: a clean build on 2
-# cores spent most of its time parsing them. The first target of a KIND ("library", "test")
-# compiles the header and the others of that kind reuse it (their compile flags are the same).
-# Sources still include what they use; the layering and write-site tests read the sources, not
-# this list. -DZBRDF_PCH=OFF turns it off.
+# cores spent most of its time parsing them. One host target per KIND ("library", "test";
+# cmake/pch_host.cc, no compile definitions) compiles the header and every target of that kind
+# reuses it: GCC takes a precompiled header only if the macros defined when it was made are
+# defined the same way where it is used, so the host defines none (a consumer's own definitions,
+# such as ZBRDF_SOURCE_DATA_DIR, do not appear in these headers). Sources still include what
+# they use; the layering and write-site tests read the sources, not this list. -DZBRDF_PCH=OFF
+# turns it off.
 option(ZBRDF_PCH "precompile the common headers (one per kind of target)" ON)
 function(zbrdf_precompile_common_headers target kind)
   if(NOT ZBRDF_PCH)
     return()
   endif()
-  get_property(host GLOBAL PROPERTY ZBRDF_PCH_HOST_${kind})
-  if(host)
-    target_precompile_headers(${target} REUSE_FROM ${host})
-  else()
-    target_precompile_headers(${target} PRIVATE
+  set(host zbrdf_pch_${kind})
+  if(NOT TARGET ${host})
+    add_library(${host} OBJECT "${PROJECT_SOURCE_DIR}/cmake/pch_host.cc")
+    target_link_libraries(${host} PRIVATE Eigen3::Eigen Threads::Threads ${ARGN})
+    target_precompile_headers(${host} PRIVATE
       <algorithm> <array> <cmath> <cstdint> <functional> <map> <memory> <string> <vector>
-      <Eigen/Dense> <nlohmann/json.hpp> ${ARGN})
-    set_property(GLOBAL PROPERTY ZBRDF_PCH_HOST_${kind} ${target})
+      <Eigen/Dense> <nlohmann/json.hpp>)
+    if(kind STREQUAL "test")
+      target_precompile_headers(${host} PRIVATE <gtest/gtest.h> <filesystem>)
+    endif()
   endif()
+  target_precompile_headers(${target} REUSE_FROM ${host})
 endfunction()
 
 # zbrdf_library(NAME DEPS...): a static library from every .cc file in the calling folder.
@@ -46,7 +52,7 @@ function(zbrdf_test_folder name)
   endif()
   add_executable(${name} ${sources})
   target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
-  zbrdf_precompile_common_headers(${name} test <gtest/gtest.h> <filesystem>)
+  zbrdf_precompile_common_headers(${name} test GTest::gtest)
   target_compile_definitions(${name} PRIVATE
     ZBRDF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ZBRDF_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data"
