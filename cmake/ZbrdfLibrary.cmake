@@ -53,6 +53,11 @@ function(zbrdf_test_folder name)
   add_executable(${name} ${sources})
   target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
   zbrdf_precompile_common_headers(${name} test GTest::gtest)
+  # Test sources compile at -O1 (about 30% faster than -O3, measured on conversion_test.cc and
+  # crash_test.cc); the libraries they test keep the build type's optimization.
+  if(CMAKE_BUILD_TYPE STREQUAL "Release")
+    target_compile_options(${name} PRIVATE -O1)
+  endif()
   target_compile_definitions(${name} PRIVATE
     ZBRDF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ZBRDF_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data"

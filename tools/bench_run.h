@@ -16,6 +16,10 @@
 //   dbrdf_error_cosine_l2   the D-BRDF fit against the material
 //   ball_rmse          RMSE of a rendered ball (directional light) of the D-BRDF fit against the
 //                      material's, relative to the RMS of the material's ball
+//   renderable_error_cosine_l2, renderable_error_ngan, renderable_ball_rmse   the same for what
+//                      a renderer gets: the prior fit `zbrdf fit` recommends by default, over the
+//                      whole hemisphere (pooled and per-channel cosine-weighted L2), leave-one-out
+//                      for the bundled prior's own materials
 // An adaptive capture that kept no band above 1 (nothing glossy above its floor) skips the D-BRDF
 // fit (its error and ball are then null): the processing it does not need.
 // Before the materials the rig's systematic floor is measured on a Lambertian target
@@ -59,6 +63,7 @@ struct BenchOptions {
   uint64_t seed = 1;
   int truth_samples = 1024;  // GroundTruthOptions::samples
   bool fit = true;           // D-BRDF fits and balls
+  bool renderable = true;    // the prior fit's whole-hemisphere error and ball (renderable_*)
   int ball_size = 64;
   int parallel_materials = 2;
   bool keep_frames = false;  // else each session's frames/ is deleted once processed
@@ -83,12 +88,19 @@ BenchSummary RunBench(const BenchOptions& options);
 
 // Fixed (3 exposures by default: the thesis's) vs adaptive per order and material, from rows:
 // {"pairs": [{material, order, fixed_time_s, adaptive_time_s, saving, fixed_error,
-// adaptive_error}], "mean_saving", "same_error_pairs", "target_met"}. An adaptive capture has the
-// "same error" when its coefficient error is at most the fixed one's times (1 + tolerance).
+// adaptive_error, ...}], "mean_saving", "same_error_pairs", "target_met", "renderable_pairs",
+// "same_renderable_error_pairs", "target_met_renderable"}. An adaptive capture has the "same
+// error" when its coefficient error is at most the fixed one's times (1 + tolerance), and the
+// "same renderable error" when both its renderable_error_cosine_l2 and renderable_ball_rmse are.
+// The targets: mean saving >= 40% and every pair the same (renderable) error.
 nlohmann::json CompareFixedAdaptive(const nlohmann::json& rows, int fixed_exposures = 3,
                                     double tolerance = 0.05);
 
-// Error against capture time, one panel per material, Pareto fronts drawn (OpenCV PNG).
-void WriteBenchPlot(const nlohmann::json& rows, const std::string& path);
+// Error (the rows' `key`) against capture time, one panel per material, Pareto fronts drawn
+// (OpenCV PNG), with `caption` under the panels.
+void WriteBenchPlot(const nlohmann::json& rows, const std::string& path,
+                    const std::string& key = "coefficient_error_common",
+                    const std::string& caption = "in-zone coefficient error up to the largest "
+                                                 "order (bands not taken count as zero)");
 
 }  // namespace zbrdf

@@ -35,6 +35,30 @@ TEST(BenchRun, ComparesFixedThreeExposuresWithAdaptive) {
   EXPECT_TRUE(s["pairs"][0]["same_error"].get<bool>());
 }
 
+TEST(BenchRun, JudgesAdaptiveByTheRenderableErrorToo) {
+  // Same coefficient errors; the renderable error (hemisphere and ball) decides on its own.
+  auto with = [](nlohmann::json row, double hemisphere, double ball) {
+    row["renderable_error_cosine_l2"] = hemisphere;
+    row["renderable_ball_rmse"] = ball;
+    return row;
+  };
+  const nlohmann::json rows = {with(Row("a", 4, false, 3, 100, 0.02), 0.30, 0.10),
+                               with(Row("a", 4, true, 2, 40, 0.02), 0.31, 0.104),   // within 5%
+                               with(Row("b", 8, false, 3, 100, 0.02), 0.30, 0.10),
+                               with(Row("b", 8, true, 2, 50, 0.02), 0.30, 0.106),   // ball 6% worse
+                               Row("c", 4, false, 3, 100, 0.02), Row("c", 4, true, 2, 50, 0.02)};
+  const nlohmann::json s = CompareFixedAdaptive(rows, 3, 0.05);
+  ASSERT_EQ(s["pairs"].size(), 3u);
+  EXPECT_EQ(s["same_error_pairs"], 3);
+  EXPECT_TRUE(s["target_met"].get<bool>());  // mean saving 53%
+  EXPECT_EQ(s["renderable_pairs"], 2);       // c has no renderable error
+  EXPECT_EQ(s["same_renderable_error_pairs"], 1);
+  EXPECT_FALSE(s["target_met_renderable"].get<bool>());
+  EXPECT_TRUE(s["pairs"][0]["same_renderable_error"].get<bool>());
+  EXPECT_FALSE(s["pairs"][1]["same_renderable_error"].get<bool>());
+  EXPECT_FALSE(s["pairs"][2].contains("same_renderable_error"));
+}
+
 TEST(BenchRun, SameSeedSameErrors) {
   BenchOptions o;
   o.rig_path = testing::SourceRig("thesis.yaml");
@@ -55,7 +79,7 @@ TEST(BenchRun, SameSeedSameErrors) {
     o.out_dir = dir;
     const BenchSummary s = RunBench(o);
     EXPECT_EQ(s.failed, 0) << s.table.dump(2);
-    for (const char* f : {"bench.json", "bench.csv", "bench.png"})
+    for (const char* f : {"bench.json", "bench.csv", "bench.png", "bench-renderable.png"})
       EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
     tables.push_back(s.table);
     fs::remove_all(dir);
@@ -66,9 +90,19 @@ TEST(BenchRun, SameSeedSameErrors) {
   ASSERT_EQ(b.size(), a.size());
   for (size_t i = 0; i < a.size(); ++i) {
     for (const char* key : {"coefficient_error", "sh_error_cosine_l2", "sh_error_in_zone",
-                            "capture_time_s", "order_captured", "frames"}) {
+                            "capture_time_s", "order_captured", "frames",
+                            "renderable_error_cosine_l2", "renderable_ball_rmse"}) {
       EXPECT_EQ(a[i][key], b[i][key]) << a[i]["strategy"] << " " << key;
     }
+  }
+  // The renderable error is measured on every capture. A sanity bound, not an accuracy claim
+  // (docs/accuracy.md has those): the prior fit of a Lambertian from an order-2, one-exposure
+  // capture measured 0.115 over the whole hemisphere (the zone sees 43% of it); a fit that
+  // failed or ignored the data would be O(1).
+  for (const nlohmann::json& row : a) {
+    ASSERT_TRUE(row["renderable_error_cosine_l2"].is_number()) << row.dump();
+    EXPECT_LT(row["renderable_error_cosine_l2"].get<double>(), 0.25) << row["strategy"];
+    EXPECT_TRUE(row["renderable_ball_rmse"].is_number());
   }
   // A Lambertian has nothing above band 1: the adaptive capture stops there and skips the fit.
   EXPECT_EQ(a[1]["order_captured"], 1);
