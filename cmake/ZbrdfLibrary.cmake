@@ -40,7 +40,19 @@ function(zbrdf_test_folder name)
   endif()
   add_executable(${name} ${sources})
   target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
-  zbrdf_precompile_common_headers(${name} <gtest/gtest.h> <filesystem>)
+  # The test binaries share one precompiled header (the first test folder's): unlike the
+  # libraries, they are compiled with the same flags and macros. -pthread (which defines
+  # _REENTRANT) is given to every one, since some get it from the libraries they link and GCC
+  # would reject the header in those. Measured on a clean build: 345 s of CPU for the tests with
+  # one header per binary, about 175 s with the shared one.
+  target_compile_options(${name} PRIVATE -pthread)
+  get_property(host GLOBAL PROPERTY ZBRDF_TEST_PCH_HOST)
+  if(ZBRDF_PCH AND host)
+    target_precompile_headers(${name} REUSE_FROM ${host})
+  else()
+    zbrdf_precompile_common_headers(${name} <gtest/gtest.h> <filesystem>)
+    set_property(GLOBAL PROPERTY ZBRDF_TEST_PCH_HOST ${name})
+  endif()
   # Test sources compile at -O1 (about 30% faster than -O3, measured on conversion_test.cc and
   # crash_test.cc); the libraries they test keep the build type's optimization.
   if(CMAKE_BUILD_TYPE STREQUAL "Release")

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "acquisition/session.h"
@@ -127,25 +128,78 @@ void AccuracyOptions::Validate() const {
   check.ThrowIfInvalid();
 }
 
-AccuracySummary RunAccuracy(const AccuracyOptions& options) {
-  options.Validate();
+namespace {
+
+struct AccuracyItem {
+  std::string rig;
+  int order;
+  std::string material;
+};
+
+std::vector<AccuracyItem> AccuracyItems(const AccuracyOptions& options) {
   std::vector<std::string> materials;
   for (const std::string& m : options.materials) {
     for (const std::string& s : ExpandMaterialList(m)) materials.push_back(s);
   }
-  const std::string prior_path = options.prior_path.empty() ? DefaultPriorPath() : options.prior_path;
-  const BrdfPrior prior = ReadPriorFile(prior_path);
-  const auto ngan = NganBaseline();
-  struct Item {
-    std::string rig;
-    int order;
-    std::string material;
-  };
-  std::vector<Item> items;
+  std::vector<AccuracyItem> items;
   for (const std::string& rig : options.rigs) {
     for (int order : options.orders) {
       for (const std::string& m : materials) items.push_back({rig, order, m});
     }
+  }
+  return items;
+}
+
+}  // namespace
+
+BatchManifest AccuracyManifest(const AccuracyOptions& options) {
+  options.Validate();
+  BatchManifest manifest;
+  manifest.command = "accuracy";
+  manifest.args = options.command_args;
+  nlohmann::json rigs = nlohmann::json::array();
+  for (const std::string& rig : options.rigs) {
+    char hash[20];
+    std::snprintf(hash, sizeof(hash), "%016llx",
+                  static_cast<unsigned long long>(RigHash(ApplyPreset(LoadRig(RigPath(rig)),
+                                                                      ParsePreset(options.preset)))));
+    rigs.push_back({{"rig", RigLabel(rig)}, {"hash", hash}});
+  }
+  manifest.options = {{"rigs", rigs},
+                      {"orders", options.orders},
+                      {"preset", options.preset},
+                      {"candidates", options.candidates},
+                      {"prior", options.prior_path.empty() ? DefaultPriorPath() : options.prior_path},
+                      {"leave_one_out", options.leave_one_out},
+                      {"images", options.images},
+                      {"ball_size", options.ball_size},
+                      {"ball_spp", options.ball_spp},
+                      {"seed", options.seed}};
+  std::set<std::string> ids;
+  for (const AccuracyItem& it : AccuracyItems(options)) {
+    const std::string label = ConfigLabel(it.rig, it.order);
+    const std::string folder = MaterialFolderName(it.material);
+    const std::string id = label + "." + folder;
+    if (!ids.insert(id).second) {
+      throw InputError("--materials names '" + it.material + "' twice (or two specs that share the folder " +
+                       folder + "); list each material once");
+    }
+    manifest.items.push_back({id, "items/" + label + "/" + folder + ".json"});
+  }
+  return manifest;
+}
+
+AccuracySummary RunAccuracy(const AccuracyOptions& options) {
+  options.Validate();
+  const BatchManifest manifest = AccuracyManifest(options);
+  const std::vector<AccuracyItem> all_items = AccuracyItems(options);
+  const std::string prior_path = options.prior_path.empty() ? DefaultPriorPath() : options.prior_path;
+  const BrdfPrior prior = ReadPriorFile(prior_path);
+  const auto ngan = NganBaseline();
+  PrepareManifest(options.out_dir, manifest, options.shard);
+  std::vector<size_t> owned;
+  for (size_t k = 0; k < all_items.size(); ++k) {
+    if (options.shard.Owns(k)) owned.push_back(k);
   }
   std::map<std::string, Rig> rigs;
   for (const std::string& rig : options.rigs) {
@@ -162,23 +216,25 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
   FitContext context;
   std::mutex mutex;
   AccuracySummary summary;
-  summary.items = static_cast<int>(items.size());
+  summary.items = static_cast<int>(owned.size());
   int finished = 0;
   Report(options.progress, {"accuracy", 0, summary.items, "items"});
 
-  auto run_item = [&](int64_t index) {
+  auto run_item = [&](int64_t owned_index) {
     if (options.interrupt && options.interrupt->load()) return false;
-    const Item& it = items[index];
+    const size_t index = owned[owned_index];
+    const AccuracyItem& it = all_items[index];
+    const BatchItem& batch_item = manifest.items[index];
     const std::string label = ConfigLabel(it.rig, it.order);
     const std::string folder = MaterialFolderName(it.material);
-    const std::string item_path = options.out_dir + "/items/" + label + "/" + folder + ".json";
     const std::string dir = options.out_dir + "/sessions/" + label + "/" + folder;
-    if (ReadJson(item_path).is_object()) {
+    if (ReadItemResult(options.out_dir, manifest, batch_item).is_object()) {
       std::lock_guard<std::mutex> lock(mutex);
       ++summary.reused;
       Report(options.progress, {"accuracy", ++finished, summary.items, "items"});
       return true;
     }
+    const RunningMarker running(options.out_dir, batch_item);
     nlohmann::json row = {{"rig", RigLabel(it.rig)},   {"order", it.order},
                           {"preset", options.preset}, {"material", it.material},
                           {"folder", folder},         {"device", MaterialDevice(it.material)},
@@ -257,16 +313,16 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
     } catch (const DeviceError& e) {
       row["failure"] = e.what();
     }
-    fs::create_directories(fs::path(item_path).parent_path());
-    WriteFileAtomically(item_path, row.dump(2) + "\n");
+    WriteItemResult(options.out_dir, manifest, batch_item, row);
     std::lock_guard<std::mutex> lock(mutex);
     ++summary.computed;
     summary.failed += row.contains("failure");
     Report(options.progress, {"accuracy", ++finished, summary.items, "items"});
     return true;
   };
-  ParallelForEach(static_cast<int64_t>(items.size()), options.parallel_items, run_item);
-  AccuracySummary reduced = ReduceAccuracy(options.out_dir);
+  ParallelForEach(static_cast<int64_t>(owned.size()), options.parallel_items, run_item);
+  // A shard leaves the tables to the merge (`zbrdf batch merge DIR`).
+  AccuracySummary reduced = options.shard.IsWhole() ? ReduceAccuracy(options.out_dir) : AccuracySummary{};
   reduced.items = summary.items;
   reduced.computed = summary.computed;
   reduced.reused = summary.reused;
@@ -279,7 +335,23 @@ AccuracySummary ReduceAccuracy(const std::string& out_dir) {
   AccuracySummary result;
   std::vector<nlohmann::json> rows;
   const std::string items_dir = out_dir + "/items";
-  if (fs::exists(items_dir)) {
+  if (fs::exists(out_dir + "/" + kManifestFile)) {
+    // A batch: its items' results, for the manifest's options, in the order of their files.
+    const BatchManifest manifest = ReadManifest(out_dir);
+    if (manifest.command != "accuracy") {
+      throw InputError(out_dir + "/manifest.json is a `zbrdf " + manifest.command +
+                       "` batch, not accuracy; merge it with `zbrdf batch merge " + out_dir + "`");
+    }
+    std::vector<BatchItem> items = manifest.items;
+    std::sort(items.begin(), items.end(),
+              [](const BatchItem& a, const BatchItem& b) { return a.result < b.result; });
+    for (const BatchItem& item : items) {
+      nlohmann::json j = ReadItemResult(out_dir, manifest, item);
+      if (!j.is_object()) continue;
+      j.erase("batch_options");
+      rows.push_back(std::move(j));
+    }
+  } else if (fs::exists(items_dir)) {
     std::vector<std::string> files;
     for (const auto& entry : fs::recursive_directory_iterator(items_dir)) {
       if (entry.path().extension() == ".json") files.push_back(entry.path().string());

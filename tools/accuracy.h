@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "basis/progress.h"
+#include "tools/batch.h"
 
 namespace zbrdf {
 
@@ -43,6 +44,8 @@ struct AccuracyOptions {
   int ball_size = 96, ball_spp = 64;
   uint64_t seed = 1;
   int parallel_items = 2;
+  Shard shard;                            // the items this process runs (default: all)
+  std::vector<std::string> command_args;  // the command line, recorded in the manifest
   ProgressCallback progress;
   const std::atomic<bool>* interrupt = nullptr;
 
@@ -57,10 +60,16 @@ struct AccuracySummary {
   bool interrupted = false;
 };
 
-// Throws InputError for bad options (an unreadable rig, no materials).
+// Throws InputError for bad options (an unreadable rig, no materials). A batch (tools/batch.h):
+// DIR/manifest.json lists the items (rig x order x material) before any work; a shard
+// (options.shard) runs only its items and leaves the reduce step to `zbrdf batch merge DIR`.
 AccuracySummary RunAccuracy(const AccuracyOptions& options);
 
-// The reduce step alone: the tables and plots from the item files under out_dir.
+// The batch's manifest for these options (what RunAccuracy writes first).
+BatchManifest AccuracyManifest(const AccuracyOptions& options);
+
+// The reduce step alone: the tables and plots from the item files under out_dir (those of the
+// manifest's items when DIR has a manifest, else every file under DIR/items/).
 AccuracySummary ReduceAccuracy(const std::string& out_dir);
 
 // "merl", "rgl" or "other": the device a material spec's data come from.

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <set>
 
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
@@ -110,86 +111,141 @@ void FitAllOptions::Validate() const {
   check.InRange("parallel_materials", parallel_materials, 1, 16).ThrowIfInvalid();
 }
 
+namespace {
+
+// The table from rows (in order): fit-all.json's object.
+nlohmann::json FitAllTable(const nlohmann::json& batch_options, const std::vector<nlohmann::json>& rows) {
+  std::vector<std::string> models;
+  for (const auto& m : batch_options["models"]) models.push_back(m.get<std::string>());
+  nlohmann::json all_rows = nlohmann::json::array();
+  std::map<std::string, std::vector<double>> errors, errors_80, errors_zone;
+  std::map<std::string, std::pair<double, std::string>> worst;
+  for (nlohmann::json row : rows) {
+    row.erase("batch_options");
+    for (const std::string& m : models) {
+      const nlohmann::json& e80 = row["error_cosine_l2_80"][m];
+      if (e80.is_number()) errors_80[m].push_back(e80.get<double>());
+      const nlohmann::json& ez = row["error_in_zone"][m];
+      if (ez.is_number()) errors_zone[m].push_back(ez.get<double>());
+      const nlohmann::json& e = row["error_cosine_l2"][m];
+      if (e.is_number()) {
+        errors[m].push_back(e.get<double>());
+        if (e.get<double>() > worst[m].first || worst[m].second.empty()) {
+          worst[m] = {e.get<double>(), row["material"].get<std::string>()};
+        }
+      }
+    }
+    all_rows.push_back(std::move(row));
+  }
+  auto median_or_null = [](const std::vector<double>& v) {
+    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(v));
+  };
+  nlohmann::json stats = nlohmann::json::object();
+  for (const std::string& m : models) {
+    const auto& v = errors[m];
+    stats[m] = {{"materials", v.size()},
+                {"median_error_cosine_l2", median_or_null(v)},
+                {"worst_error_cosine_l2", v.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst[m].first)},
+                {"worst_material", worst[m].second},
+                {"median_error_cosine_l2_80", median_or_null(errors_80[m])},
+                {"median_error_in_zone", median_or_null(errors_zone[m])}};
+  }
+  return {{"rig", batch_options["rig"]},   {"preset", batch_options["preset"]},
+          {"order", batch_options["order"]}, {"seed", batch_options["seed"]},
+          {"models", models},               {"rows", all_rows},
+          {"summary", stats}};
+}
+
+void WriteFitAllTable(const std::string& out_dir, const nlohmann::json& table) {
+  WriteFileAtomically(out_dir + "/fit-all.json", table.dump(2) + "\n");
+  std::vector<std::string> models = table["models"].get<std::vector<std::string>>();
+  std::string csv = "material,folder";
+  for (const std::string& m : models) {
+    csv += ',' + m + "_error_cosine_l2," + m + "_error_in_zone," + m + "_error_cosine_l2_80";
+  }
+  csv += "\n";
+  for (const auto& row : table["rows"]) {
+    // Specs contain commas: quote the field (RFC 4180).
+    csv += '"' + row["material"].get<std::string>() + "\"," + row["folder"].get<std::string>();
+    for (const std::string& m : models) {
+      for (const char* key : {"error_cosine_l2", "error_in_zone", "error_cosine_l2_80"}) {
+        const nlohmann::json& e = row[key][m];
+        char value[32] = "";
+        if (e.is_number()) std::snprintf(value, sizeof(value), "%.6g", e.get<double>());
+        csv += std::string(",") + value;
+      }
+    }
+    csv += "\n";
+  }
+  WriteFileAtomically(out_dir + "/fit-all.csv", csv);
+}
+
+}  // namespace
+
+BatchManifest FitAllManifest(const FitAllOptions& options) {
+  options.Validate();
+  const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
+  BatchManifest manifest;
+  manifest.command = "fit-all";
+  manifest.args = options.command_args;
+  char hash[20];
+  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(RigHash(rig)));
+  manifest.options = {{"rig", rig.name},   {"rig_hash", hash},          {"preset", options.preset},
+                      {"order", options.order}, {"seed", options.seed}, {"models", options.models}};
+  std::set<std::string> folders;
+  for (const std::string& spec : options.materials) {
+    const std::string folder = MaterialFolderName(spec);
+    if (!folders.insert(folder).second) {
+      throw InputError("--materials names '" + spec + "' twice (or two specs that share the folder " +
+                       folder + "); list each material once");
+    }
+    manifest.items.push_back({folder, "items/" + folder + ".json"});
+  }
+  return manifest;
+}
+
+FitAllSummary ReduceFitAll(const std::string& out_dir) {
+  const BatchManifest manifest = ReadManifest(out_dir);
+  if (manifest.command != "fit-all") {
+    throw InputError(out_dir + "/manifest.json is a `zbrdf " + manifest.command +
+                     "` batch, not fit-all; merge it with `zbrdf batch merge " + out_dir + "`");
+  }
+  std::vector<nlohmann::json> rows;
+  FitAllSummary summary;
+  for (const BatchItem& item : manifest.items) {
+    nlohmann::json row = ReadItemResult(out_dir, manifest, item);
+    if (row.is_null()) continue;
+    summary.failed += row.contains("failure");
+    rows.push_back(std::move(row));
+  }
+  summary.items = static_cast<int>(manifest.items.size());
+  summary.table = FitAllTable(manifest.options, rows);
+  WriteFitAllTable(out_dir, summary.table);
+  return summary;
+}
+
 FitAllSummary RunFitAll(const FitAllOptions& options) {
   options.Validate();
   const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
-  std::filesystem::create_directories(options.out_dir);
+  const BatchManifest manifest = FitAllManifest(options);
+  PrepareManifest(options.out_dir, manifest, options.shard);
   FitContext context;
-  const int total = static_cast<int>(options.materials.size());
-  std::vector<nlohmann::json> rows(total);
-  std::vector<bool> done(total, false);
+  std::vector<int> owned;
+  for (size_t k = 0; k < manifest.items.size(); ++k) {
+    if (options.shard.Owns(k)) owned.push_back(static_cast<int>(k));
+  }
+  const int total = static_cast<int>(owned.size());
   std::mutex mutex;
   FitAllSummary summary;
+  summary.items = total;
   std::atomic<int> finished{0};
   std::exception_ptr table_error;
   Report(options.progress, {"fit-all", 0, total, "materials"});
-
+  // A whole run keeps the table current after every material; a shard leaves it to the merge.
   auto write_table = [&]() {  // under mutex
-    nlohmann::json all_rows = nlohmann::json::array();
-    std::map<std::string, std::vector<double>> errors, errors_80, errors_zone;
-    std::map<std::string, std::pair<double, std::string>> worst;
-    for (int i = 0; i < total; ++i) {
-      if (!done[i]) continue;
-      all_rows.push_back(rows[i]);
-      for (const std::string& m : options.models) {
-        const nlohmann::json& e80 = rows[i]["error_cosine_l2_80"][m];
-        if (e80.is_number()) errors_80[m].push_back(e80.get<double>());
-        const nlohmann::json& ez = rows[i]["error_in_zone"][m];
-        if (ez.is_number()) errors_zone[m].push_back(ez.get<double>());
-        const nlohmann::json& e = rows[i]["error_cosine_l2"][m];
-        if (e.is_number()) {
-          errors[m].push_back(e.get<double>());
-          if (e.get<double>() > worst[m].first || worst[m].second.empty()) {
-            worst[m] = {e.get<double>(), rows[i]["material"].get<std::string>()};
-          }
-        }
-      }
-    }
-    nlohmann::json stats = nlohmann::json::object();
-    for (const std::string& m : options.models) {
-      const auto& v = errors[m];
-      stats[m] = {{"materials", v.size()},
-                  {"median_error_cosine_l2", v.empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(v))},
-                  {"worst_error_cosine_l2", v.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst[m].first)},
-                  {"worst_material", worst[m].second},
-                  {"median_error_cosine_l2_80",
-                   errors_80[m].empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(errors_80[m]))},
-                  {"median_error_in_zone",
-                   errors_zone[m].empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(errors_zone[m]))}};
-    }
-    nlohmann::json table = {{"rig", rig.name},  {"preset", options.preset}, {"order", options.order},
-                            {"seed", options.seed}, {"models", options.models}, {"rows", all_rows},
-                            {"summary", stats}};
-    WriteFileAtomically(options.out_dir + "/fit-all.json", table.dump(2) + "\n");
-    std::string csv = "material,folder";
-    for (const std::string& m : options.models) {
-      csv += ',';
-      csv += m;
-      csv += "_error_cosine_l2,";
-      csv += m;
-      csv += "_error_in_zone,";
-      csv += m;
-      csv += "_error_cosine_l2_80";
-    }
-    csv += "\n";
-    for (const auto& row : all_rows) {
-      // Specs contain commas: quote the field (RFC 4180).
-      csv += '"';
-      csv += row["material"].get<std::string>();
-      csv += "\",";
-      csv += row["folder"].get<std::string>();
-      for (const std::string& m : options.models) {
-        for (const char* key : {"error_cosine_l2", "error_in_zone", "error_cosine_l2_80"}) {
-          const nlohmann::json& e = row[key][m];
-          char value[32] = "";
-          if (e.is_number()) std::snprintf(value, sizeof(value), "%.6g", e.get<double>());
-          csv += std::string(",") + value;
-        }
-      }
-      csv += "\n";
-    }
-    WriteFileAtomically(options.out_dir + "/fit-all.csv", csv);
-    summary.table = table;
+    if (!options.shard.IsWhole()) return;
+    const FitAllSummary reduced = ReduceFitAll(options.out_dir);
+    summary.table = reduced.table;
   };
 
   // One material: simulate (or reuse) its session, then fit each model; false stops this worker
@@ -197,7 +253,15 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
   auto fit_material = [&](int i) {
     if (options.interrupt && options.interrupt->load()) return false;
     const std::string& spec = options.materials[i];
-    const std::string folder = MaterialFolderName(spec);
+    const BatchItem& item = manifest.items[i];
+    if (!options.refit && ReadItemResult(options.out_dir, manifest, item).is_object()) {
+      std::lock_guard<std::mutex> lock(mutex);
+      ++summary.reused_items;
+      Report(options.progress, {"fit-all", ++finished, total, "materials"});
+      return true;
+    }
+    const RunningMarker running(options.out_dir, item);
+    const std::string folder = item.id;
     const std::string dir = options.out_dir + "/" + folder;
     nlohmann::json row = {{"material", spec}, {"folder", folder}};
     row["error_cosine_l2"] = nlohmann::json::object();
@@ -264,8 +328,12 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
       failed = true;
     }
     std::lock_guard<std::mutex> lock(mutex);
-    rows[i] = row;
-    done[i] = true;
+    try {
+      WriteItemResult(options.out_dir, manifest, item, row);
+    } catch (...) {
+      if (!table_error) table_error = std::current_exception();
+      return false;
+    }
     summary.simulated += simulated;
     summary.reused_sessions += reused_session;
     summary.fitted += fitted;
@@ -282,7 +350,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
   };
   // Materials in flight at once: each stage is itself mostly single-threaded.
   ParallelForEach(total, std::clamp(options.parallel_materials, 1, 16),
-                  [&](int64_t i) { return fit_material(static_cast<int>(i)); });
+                  [&](int64_t i) { return fit_material(owned[i]); });
   if (table_error) std::rethrow_exception(table_error);
   summary.interrupted = finished.load() < total;
   write_table();

@@ -49,13 +49,19 @@ TEST(FitAllTest, TabulatesErrorsAndResumes) {
   }
   EXPECT_TRUE(first.table["summary"]["ggx"]["median_error_cosine_l2"].is_number());
   EXPECT_TRUE(std::filesystem::exists(out + "/fit-all.csv"));
-  // Run again: everything is found in the folder.
+  // Run again: every material's row is found in DIR/items/.
   const FitAllSummary second = RunFitAll(options);
-  EXPECT_EQ(second.simulated, 0);
-  EXPECT_EQ(second.reused_sessions, 2);
-  EXPECT_EQ(second.fitted, 0);
-  EXPECT_EQ(second.reused_fits, 4);
+  EXPECT_EQ(second.reused_items, 2);
+  EXPECT_EQ(second.simulated + second.fitted, 0);
   EXPECT_EQ(second.table["summary"], first.table["summary"]);
+  // Without the rows, the sessions and fit reports in the folder are found.
+  std::filesystem::remove_all(out + "/items");
+  const FitAllSummary third = RunFitAll(options);
+  EXPECT_EQ(third.simulated, 0);
+  EXPECT_EQ(third.reused_sessions, 2);
+  EXPECT_EQ(third.fitted, 0);
+  EXPECT_EQ(third.reused_fits, 4);
+  EXPECT_EQ(third.table["summary"], first.table["summary"]);
   options.models = {"phong"};
   EXPECT_THROW(RunFitAll(options), InputError);
 }

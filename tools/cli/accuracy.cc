@@ -1,5 +1,6 @@
 // zbrdf accuracy: the whole-hemisphere accuracy benchmark of the renderable fits
 // (tools/accuracy.h, docs/accuracy.md).
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -7,6 +8,7 @@
 
 #include "basis/error.h"
 #include "tools/accuracy.h"
+#include "tools/cli/batch_flags.h"
 #include "tools/cli/command.h"
 #include "tools/interrupt.h"
 #include "tools/terminal_progress.h"
@@ -41,11 +43,13 @@ int RunAccuracyCommand(const std::vector<std::string>& args) {
       .Option("seed", "N", "seed of every simulation", "1")
       .Option("jobs", "N", "items in flight at once", "2")
       .Flag("reduce-only", "only rebuild the tables and plots from DIR/items/")
-      .Flag("json", "print the summary as JSON")
-      .Epilog("Examples:\n"
+      .Flag("json", "print the summary as JSON");
+  AddBatchFlags(cl);
+  cl.Epilog("Examples:\n"
               "  zbrdf accuracy --out results/accuracy                   # order 8, thesis rig\n"
               "  zbrdf accuracy --out results/accuracy --orders 4,6,8,10 --rigs thesis,full-dome\n"
-              "  zbrdf accuracy --out /tmp/a --materials merl:blue-acrylic,rgl:cardboard");
+              "  zbrdf accuracy --out /tmp/a --materials merl:blue-acrylic,rgl:cardboard\n"
+              "  zbrdf accuracy --out results/accuracy --executor slurm --shards 50  # docs/cluster.md");
   if (!cl.Parse(args)) return 0;
   if (!cl.Has("out")) throw InputError("accuracy needs --out DIR (see --help)");
   AccuracySummary summary;
@@ -73,10 +77,30 @@ int RunAccuracyCommand(const std::vector<std::string>& args) {
     o.ball_spp = static_cast<int>(ball[1]);
     o.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
     o.parallel_items = cl.GetInt("jobs", 1, 16);
+    const BatchRun run = ReadBatchFlags(cl);
+    o.shard = run.shard;
+    o.command_args = ManifestArgs(args);
+    if (run.slurm) {
+      const BatchManifest manifest = AccuracyManifest(o);
+      PrepareManifest(o.out_dir, manifest, Shard{});
+      // Per item on 2 cores (docs/accuracy.md): simulation as in fit-all, then --model auto's
+      // candidates with cross-validation and two material balls: about 3 minutes at order 8.
+      const int order = *std::max_element(o.orders.begin(), o.orders.end());
+      const double item_s = (o.preset == "full" ? 400.0 : 180.0) *
+                            std::max(0.25, (order + 1.0) * (order + 1.0) / 81.0);
+      return SubmitBatchToSlurm(o.out_dir, manifest, run, item_s, cl.Has("json"));
+    }
     TerminalProgress progress(cl.Has("json"));
     o.progress = progress.Callback();
     o.interrupt = InstallInterruptHandler();
     summary = RunAccuracy(o);
+    if (!o.shard.IsWhole()) {
+      std::printf("accuracy shard %s: %d items (%d computed, %d already done, %d failed); the "
+                  "tables: zbrdf batch merge %s\n",
+                  o.shard.ToString().c_str(), summary.items, summary.computed, summary.reused,
+                  summary.failed, o.out_dir.c_str());
+      return summary.interrupted ? 130 : 0;
+    }
   }
   if (cl.Has("json")) {
     nlohmann::json j = {{"summary", summary.table["summary"]},
