@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <ctime>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -172,8 +174,31 @@ void WriteFileAtomically(const std::string& path, const std::string& bytes) {
 bool WriteCacheFile(const std::string& path, const std::vector<std::string_view>& parts) {
   std::error_code error;
   fs::create_directories(FolderOf(path), error);
-  const std::string tmp = TemporaryFileName(path);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // One writer per entry: the first to create "<entry>.writing" writes it; the others (other
+  // threads, processes or, on a shared file system, hosts building the same entry) go on without
+  // writing. A claim older than 10 minutes is a writer that died: it is taken over.
+  const std::string claim = path + ".writing";
+  int claim_fd = ::open(claim.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (claim_fd < 0 && errno == EEXIST) {
+    struct stat st {};
+    if (::stat(claim.c_str(), &st) == 0 && ::time(nullptr) - st.st_mtime > 600) {
+      ::unlink(claim.c_str());
+      claim_fd = ::open(claim.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    }
+  }
+  if (claim_fd < 0) return false;
+  ::close(claim_fd);
+  struct Unclaim {
+    const std::string& claim;
+    ~Unclaim() { ::unlink(claim.c_str()); }
+  } unclaim{claim};
+  // A temporary name no other writer uses, even one with the same pid on another host.
+  static std::atomic<uint64_t> counter{0};
+  char host[64] = {};
+  ::gethostname(host, sizeof(host) - 1);
+  const std::string tmp = path + ".tmp-" + host + "-" + std::to_string(::getpid()) + "-" +
+                          std::to_string(counter.fetch_add(1));
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return false;
   bool ok = true;
   for (std::string_view part : parts) {

@@ -62,10 +62,13 @@ void TruncateFile(const std::string& path, uint64_t length);
 
 // Writes a cache entry: the parts, in order, to a temporary file in path's folder, renamed over
 // path. No fsync (an entry lost to a power cut is rebuilt, and its reader checks it whole) and
-// not a fault-injection site: a cache is never what a crash test protects. Concurrent writers of
-// the same entry are safe (each renames a whole file; the last one stays). Returns false, leaving
-// no temporary file and the previous entry (if any), when the folder cannot be created or the
-// disk is full: callers go on without the cache.
+// not a fault-injection site: a cache is never what a crash test protects. Safe for concurrent
+// writers, also on a shared file system (a cluster's shards): one writer per entry (the first to
+// create "<path>.writing"; the others return false and go on without writing), a temporary name
+// unique per host, process and call, and an atomic rename, so a reader sees the old entry or the
+// new one, whole. Returns false, leaving no temporary file and the previous entry (if any), when
+// another writer holds the entry, the folder cannot be created or the disk is full: callers go on
+// without the cache.
 bool WriteCacheFile(const std::string& path, const std::vector<std::string_view>& parts);
 
 // The temporary name WriteFileAtomically uses for path in this process.

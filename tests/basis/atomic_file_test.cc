@@ -4,12 +4,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "basis/error.h"
 
@@ -248,6 +252,38 @@ TEST_F(AtomicFileTest, PermissionDeniedNamesTheFolder) {
                                        "exception, 4: could not drop root";
   EXPECT_FALSE(fs::exists(sub + "/f"));
   fs::permissions(sub, fs::perms::owner_all);
+}
+
+TEST_F(AtomicFileTest, CacheEntriesHaveOneWriterAndReadersSeeAWholeFile) {
+  // Eight threads write the same entry at once, each with its own 1 MB payload: the entry ends as
+  // exactly one of them (never a mixture), and no temporary or claim file is left.
+  const std::string path = dir_ + "/entry.bin";
+  std::vector<std::string> payloads;
+  for (int i = 0; i < 8; ++i) payloads.push_back(std::string(1 << 20, static_cast<char>('a' + i)));
+  std::atomic<int> written{0};
+  std::vector<std::thread> writers;
+  for (int i = 0; i < 8; ++i) {
+    writers.emplace_back([&, i] {
+      const std::string_view part(payloads[i]);
+      written += WriteCacheFile(path, {part.substr(0, 1000), part.substr(1000)});
+    });
+  }
+  for (auto& t : writers) t.join();
+  EXPECT_GE(written.load(), 1);
+  const std::string entry = Slurp(path);
+  ASSERT_EQ(entry.size(), size_t{1} << 20);
+  EXPECT_EQ(entry, std::string(entry.size(), entry[0])) << "a mixture of writers";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+
+  // A writer holding the entry keeps others out; a claim left by a writer that died (older than
+  // 10 minutes) is taken over.
+  WriteFileAtomically(path + ".writing", "");
+  EXPECT_FALSE(WriteCacheFile(path, {"other"}));
+  EXPECT_EQ(Slurp(path), entry);
+  fs::last_write_time(path + ".writing", fs::file_time_type::clock::now() - std::chrono::minutes(11));
+  EXPECT_TRUE(WriteCacheFile(path, {"other"}));
+  EXPECT_EQ(Slurp(path), "other");
+  EXPECT_FALSE(fs::exists(path + ".writing"));
 }
 
 }  // namespace

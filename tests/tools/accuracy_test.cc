@@ -20,6 +20,25 @@ nlohmann::json ReadJson(const std::string& path) {
   return nlohmann::json::parse(in);
 }
 
+// The JSON without measured times (keys ending in "time_s"), which differ from run to run, and
+// the session folders' paths (in each run's own folder).
+nlohmann::json WithoutTimes(nlohmann::json j) {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end();) {
+      const std::string key = it.key();
+      if (key == "session" || (key.size() >= 6 && key.compare(key.size() - 6, 6, "time_s") == 0)) {
+        it = j.erase(it);
+      } else {
+        *it = WithoutTimes(*it);
+        ++it;
+      }
+    }
+  } else if (j.is_array()) {
+    for (auto& v : j) v = WithoutTimes(v);
+  }
+  return j;
+}
+
 TEST(AccuracyTest, MerlMaterialsAreLeftOutOfThePriorAndRglMaterialsAreNot) {
   const std::string out = testing::TestBuildDir("test-accuracy");
   fs::remove_all(out);
@@ -59,6 +78,23 @@ TEST(AccuracyTest, MerlMaterialsAreLeftOutOfThePriorAndRglMaterialsAreNot) {
   const AccuracySummary again = RunAccuracy(o);
   EXPECT_EQ(again.reused, 2);
   EXPECT_EQ(again.computed, 0);
+
+  // Sharded (tools/batch.h): each shard runs its item, the reduce step gives the same tables.
+  const std::string sharded = testing::TestBuildDir("test-accuracy-sharded");
+  fs::remove_all(sharded);
+  fs::create_directories(sharded);
+  fs::create_directory_symlink(out + "/sessions", sharded + "/sessions");
+  o.out_dir = sharded;
+  for (int index : {1, 0}) {
+    o.shard = {index, 2};
+    const AccuracySummary part = RunAccuracy(o);
+    EXPECT_EQ(part.items, 1);
+    EXPECT_EQ(part.computed, 1);
+  }
+  EXPECT_FALSE(fs::exists(sharded + "/accuracy.json")) << "a shard writes no table";
+  ReduceAccuracy(sharded);
+  EXPECT_EQ(WithoutTimes(ReadJson(sharded + "/accuracy.json")), WithoutTimes(table));
+  EXPECT_TRUE(fs::exists(sharded + "/accuracy.md"));
 }
 
 TEST(AccuracyTest, RejectsBadOptions) {
