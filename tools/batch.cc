@@ -74,7 +74,7 @@ BatchManifest BatchManifest::FromJson(const nlohmann::json& j, const std::string
   if (!j.is_object() || j.value("format", std::string()) != kManifestFormat ||
       !j.contains("items") || !j["items"].is_array()) {
     throw InputError(where + " is not a zbrdf batch manifest (" + kManifestFormat +
-                     "); it is written by `zbrdf fit-all` or `zbrdf accuracy` in their --out folder");
+                     "); it is written by `zbrdf fit-all`, `accuracy` or `bench` in their --out folder");
   }
   BatchManifest m;
   m.command = j.value("command", std::string());
@@ -149,8 +149,8 @@ BatchManifest ReadManifest(const std::string& dir) {
   const std::string path = dir + "/" + kManifestFile;
   if (!fs::exists(path)) {
     throw InputError(path + " does not exist: " + dir +
-                     " is not a batch folder (one is written by `zbrdf fit-all --out DIR` or "
-                     "`zbrdf accuracy --out DIR`)");
+                     " is not a batch folder (one is written by `zbrdf fit-all`, `accuracy` or `bench` with "
+                     "--out DIR)");
   }
   const nlohmann::json j = ReadJsonOrNull(path);
   if (j.is_null()) throw InputError(path + " is not valid JSON; rerun the command that made the batch");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
@@ -507,101 +508,230 @@ void BenchOptions::Validate() const {
       .ThrowIfInvalid();
 }
 
+namespace {
+
+std::vector<std::string> BenchMaterials(const BenchOptions& options) {
+  return options.materials.empty() ? DefaultBenchMaterials() : options.materials;
+}
+
+// The bench's tables from its rows: bench.json's object (wall_s left to the caller).
+nlohmann::json BenchTable(const nlohmann::json& batch_options, const nlohmann::json& floor,
+                          const nlohmann::json& rows) {
+  return {{"rig", batch_options["rig"]},
+          {"preset", batch_options["preset"]},
+          {"seed", batch_options["seed"]},
+          {"materials", batch_options["materials"]},
+          {"orders", batch_options["orders"]},
+          {"exposures", batch_options["exposures"]},
+          {"adaptive_options", floor.is_object() && floor.contains("adaptive_options")
+                                   ? floor["adaptive_options"]
+                                   : batch_options["adaptive_options"]},
+          {"truth_samples", batch_options["truth_samples"]},
+          {"floor", floor},
+          {"rows", rows},
+          {"summary", CompareFixedAdaptive(rows)},
+          {"wall_s", nullptr}};
+}
+
+void WriteBenchOutputs(const std::string& out_dir, const nlohmann::json& table, bool renderable) {
+  WriteFileAtomically(out_dir + "/bench.json", table.dump(2) + "\n");
+  std::string csv;
+  for (const char* c : kCsvColumns) csv += std::string(csv.empty() ? "" : ",") + c;
+  csv += "\n";
+  for (const nlohmann::json& r : table["rows"]) {
+    bool first = true;
+    for (const char* c : kCsvColumns) {
+      if (!first) csv += ',';
+      first = false;
+      csv += CsvField(r.value(c, nlohmann::json(nullptr)));
+    }
+    csv += "\n";
+  }
+  WriteFileAtomically(out_dir + "/bench.csv", csv);
+  WriteBenchPlot(table["rows"], out_dir + "/bench.png");
+  if (renderable) {
+    WriteBenchPlot(table["rows"], out_dir + "/bench-renderable.png", "renderable_error_cosine_l2",
+                   "renderable error: the recommended (prior) fit's cosine-weighted L2 over the "
+                   "whole hemisphere, leave-one-out");
+  }
+}
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return nullptr;
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_discarded() ? nlohmann::json(nullptr) : j;
+}
+
+}  // namespace
+
+BatchManifest BenchManifest(const BenchOptions& options) {
+  options.Validate();
+  const std::vector<std::string> materials = BenchMaterials(options);
+  const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
+  BatchManifest manifest;
+  manifest.command = "bench";
+  manifest.args = options.command_args;
+  char hash[20];
+  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(RigHash(rig)));
+  manifest.options = {{"rig", rig.name},
+                      {"rig_hash", hash},
+                      {"preset", options.preset},
+                      {"seed", options.seed},
+                      {"materials", materials},
+                      {"orders", options.orders},
+                      {"exposures", options.exposures},
+                      {"adaptive", options.adaptive},
+                      {"adaptive_options", options.adaptive_options.ToJson()},
+                      {"measure_floor", options.measure_floor},
+                      {"truth_samples", options.truth_samples},
+                      {"fit", options.fit},
+                      {"renderable", options.renderable},
+                      {"ball_size", options.ball_size}};
+  std::set<std::string> folders;
+  for (const std::string& m : materials) {
+    const std::string folder = MaterialFolderName(m);
+    if (!folders.insert(folder).second) {
+      throw InputError("--materials names '" + m + "' twice (or two specs that share the folder " +
+                       folder + "); list each material once");
+    }
+    manifest.items.push_back({folder, "items/" + folder + ".json"});
+  }
+  return manifest;
+}
+
+nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted) {
+  if (interrupted) *interrupted = false;
+  if (!options.measure_floor || !options.adaptive) return nullptr;
+  const BatchManifest manifest = BenchManifest(options);
+  const std::string floor_path = options.out_dir + "/floor.json";
+  const nlohmann::json stored = ReadJsonFile(floor_path);
+  if (stored.is_object() && stored.value("batch_options", nlohmann::json()) == manifest.options &&
+      stored.contains("floor_profile")) {
+    return stored;
+  }
+  const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
+  const int max_order = *std::max_element(options.orders.begin(), options.orders.end());
+  const auto t = WallClock::now();
+  FitContext fits;
+  MaterialBench white(rig, options, "target:white", &fits);
+  double capture_time_s = 0;
+  // A shard measures into its own folder: shards that start together do not share a session.
+  const std::string folder = options.shard.IsWhole()
+                                 ? options.out_dir + "/floor"
+                                 : options.out_dir + "/floor-shard-" + std::to_string(options.shard.index);
+  const CaptureJobResult r =
+      white.Capture({"floor", false, max_order, 3}, AdaptiveOptions(), folder, &capture_time_s);
+  if (!r.complete) {
+    if (interrupted) *interrupted = true;
+    return nullptr;
+  }
+  std::vector<AdaptiveBand> bands;
+  for (int l = 0; l <= r.zonal.order; ++l) {
+    std::vector<const GridImage*> f;
+    for (int m = -l; m <= l; ++m) f.push_back(&r.zonal.functions[ShIndex(l, m)]);
+    bands.push_back(MeasureBandEnergy(l, f, r.zonal.grid));
+  }
+  AdaptiveOptions adaptive = options.adaptive_options;
+  adaptive.floor_profile = FloorProfile(bands);
+  nlohmann::json energies = nlohmann::json::array();
+  for (const AdaptiveBand& b : bands) energies.push_back(b.energy);
+  const nlohmann::json floor = {
+      {"material", "target:white"},       {"order", max_order},
+      {"band_energy", energies},          {"floor_profile", adaptive.floor_profile},
+      {"adaptive_options", adaptive.ToJson()},
+      {"capture_time_s", capture_time_s}, {"wall_s", Since(t)},
+      {"batch_options", manifest.options}};
+  WriteFileAtomically(floor_path, floor.dump(2) + "\n");
+  return floor;
+}
+
+BenchSummary ReduceBench(const std::string& out_dir) {
+  const BatchManifest manifest = ReadManifest(out_dir);
+  if (manifest.command != "bench") {
+    throw InputError(out_dir + "/manifest.json is a `zbrdf " + manifest.command +
+                     "` batch, not bench; merge it with `zbrdf batch merge " + out_dir + "`");
+  }
+  nlohmann::json floor = ReadJsonFile(out_dir + "/floor.json");
+  if (!floor.is_object() || floor.value("batch_options", nlohmann::json()) != manifest.options) {
+    floor = nullptr;
+  } else {
+    floor.erase("batch_options");
+  }
+  BenchSummary summary;
+  nlohmann::json rows = nlohmann::json::array();
+  double item_wall_s = 0;
+  for (const BatchItem& item : manifest.items) {
+    const nlohmann::json result = ReadItemResult(out_dir, manifest, item);
+    if (!result.is_object()) continue;
+    item_wall_s += result.value("wall_s", 0.0);
+    for (const nlohmann::json& row : result.value("rows", nlohmann::json::array())) {
+      summary.failed += row.contains("failure");
+      rows.push_back(row);
+    }
+  }
+  summary.table = BenchTable(manifest.options, floor, rows);
+  summary.table["item_wall_s_sum"] = item_wall_s;
+  WriteBenchOutputs(out_dir, summary.table, manifest.options.value("renderable", true));
+  return summary;
+}
+
 BenchSummary RunBench(const BenchOptions& options) {
   options.Validate();
-  const std::vector<std::string> materials =
-      options.materials.empty() ? DefaultBenchMaterials() : options.materials;
+  const std::vector<std::string> materials = BenchMaterials(options);
   for (const std::string& m : materials) MakeBrdf(m);  // validates every spec up front
   const std::vector<BenchStrategy> strategies = BenchStrategies(options);
   const Rig rig = ApplyPreset(LoadRig(options.rig_path), ParsePreset(options.preset));
-  fs::create_directories(options.out_dir);
+  const BatchManifest manifest = BenchManifest(options);
+  PrepareManifest(options.out_dir, manifest, options.shard);
   const int max_order = *std::max_element(options.orders.begin(), options.orders.end());
+  std::vector<size_t> owned;
+  for (size_t k = 0; k < materials.size(); ++k) {
+    if (options.shard.Owns(k)) owned.push_back(k);
+  }
   const long total =
-      static_cast<long>(materials.size() * strategies.size()) + (options.measure_floor ? 1 : 0);
+      static_cast<long>(owned.size() * strategies.size()) + (options.measure_floor ? 1 : 0);
   std::atomic<long> done{0};
   Report(options.progress, {"bench", 0, total, "captures"});
   BenchSummary summary;
   FitContext fits;
+  const auto bench_start = WallClock::now();
 
   // The rig's systematic floor, on a Lambertian target (acquisition/adaptive.h).
   BenchOptions run = options;
-  nlohmann::json floor = nullptr;
-  if (options.measure_floor && options.adaptive) {
-    const auto t = WallClock::now();
-    MaterialBench white(rig, options, "target:white", &fits);
-    double capture_time_s = 0;
-    const CaptureJobResult r = white.Capture({"floor", false, max_order, 3}, AdaptiveOptions(),
-                                             options.out_dir + "/floor", &capture_time_s);
-    if (!r.complete) {
-      summary.interrupted = true;
-      return summary;
-    }
-    std::vector<AdaptiveBand> bands;
-    for (int l = 0; l <= r.zonal.order; ++l) {
-      std::vector<const GridImage*> f;
-      for (int m = -l; m <= l; ++m) f.push_back(&r.zonal.functions[ShIndex(l, m)]);
-      bands.push_back(MeasureBandEnergy(l, f, r.zonal.grid));
-    }
-    run.adaptive_options.floor_profile = FloorProfile(bands);
-    nlohmann::json energies = nlohmann::json::array();
-    for (const AdaptiveBand& b : bands) energies.push_back(b.energy);
-    floor = {
-        {"material", "target:white"},       {"order", max_order},
-        {"band_energy", energies},          {"floor_profile", run.adaptive_options.floor_profile},
-        {"capture_time_s", capture_time_s}, {"wall_s", Since(t)}};
-    WriteFileAtomically(options.out_dir + "/floor.json", floor.dump(2) + "\n");
-    Report(options.progress, {"bench", ++done, total, "captures"});
+  bool interrupted = false;
+  const nlohmann::json floor = MeasureBenchFloor(options, &interrupted);
+  if (interrupted) {
+    summary.interrupted = true;
+    return summary;
   }
+  if (floor.is_object()) {
+    run.adaptive_options.floor_profile = floor["floor_profile"].get<std::vector<double>>();
+  }
+  if (options.measure_floor) Report(options.progress, {"bench", ++done, total, "captures"});
 
-  std::vector<nlohmann::json> rows(materials.size() * strategies.size());
-  std::vector<bool> filled(rows.size(), false);
   std::mutex mutex;
-  const auto bench_start = WallClock::now();
+  // A whole run keeps the tables current after every material; a shard leaves them to the merge.
   auto write_outputs = [&]() {  // under mutex
-    nlohmann::json all = nlohmann::json::array();
-    for (size_t i = 0; i < rows.size(); ++i) {
-      if (filled[i]) all.push_back(rows[i]);
-    }
-    nlohmann::json table = {{"rig", rig.name},
-                            {"preset", options.preset},
-                            {"seed", options.seed},
-                            {"materials", materials},
-                            {"orders", options.orders},
-                            {"exposures", options.exposures},
-                            {"adaptive_options", run.adaptive_options.ToJson()},
-                            {"truth_samples", options.truth_samples},
-                            {"floor", floor},
-                            {"rows", all},
-                            {"summary", CompareFixedAdaptive(all)},
-                            {"wall_s", Since(bench_start)}};
-    WriteFileAtomically(options.out_dir + "/bench.json", table.dump(2) + "\n");
-    std::string csv;
-    for (const char* c : kCsvColumns) csv += std::string(csv.empty() ? "" : ",") + c;
-    csv += "\n";
-    for (const nlohmann::json& r : all) {
-      bool first = true;
-      for (const char* c : kCsvColumns) {
-        if (!first) csv += ',';
-        first = false;
-        csv += CsvField(r.value(c, nlohmann::json(nullptr)));
-      }
-      csv += "\n";
-    }
-    WriteFileAtomically(options.out_dir + "/bench.csv", csv);
-    WriteBenchPlot(all, options.out_dir + "/bench.png");
-    if (options.renderable) {
-      WriteBenchPlot(all, options.out_dir + "/bench-renderable.png", "renderable_error_cosine_l2",
-                     "renderable error: the recommended (prior) fit's cosine-weighted L2 over the "
-                     "whole hemisphere, leave-one-out");
-    }
-    summary.table = table;
+    if (!options.shard.IsWhole()) return;
+    summary.table = ReduceBench(options.out_dir).table;
+    summary.table["wall_s"] = Since(bench_start);
+    WriteFileAtomically(options.out_dir + "/bench.json", summary.table.dump(2) + "\n");
   };
   std::exception_ptr output_error;
   // One material, all strategies; false stops this worker (interrupted, or the outputs could not
   // be written).
   auto bench_material = [&](size_t mi) {
     if (options.interrupt && options.interrupt->load()) return false;
-    const std::string dir = options.out_dir + "/" + MaterialFolderName(materials[mi]);
+    const BatchItem& item = manifest.items[mi];
+    if (ReadItemResult(options.out_dir, manifest, item).is_object()) {
+      done += static_cast<long>(strategies.size());
+      Report(options.progress, {"bench", done.load(), total, "captures"});
+      return true;
+    }
+    const RunningMarker running(options.out_dir, item);
+    const auto material_start = WallClock::now();
+    const std::string dir = options.out_dir + "/" + item.id;
     std::unique_ptr<MaterialBench> bench;
     std::string setup_failure;
     try {
@@ -609,6 +739,8 @@ BenchSummary RunBench(const BenchOptions& options) {
     } catch (const std::exception& e) {
       setup_failure = e.what();
     }
+    nlohmann::json rows = nlohmann::json::array();
+    int failed = 0;
     for (size_t si = 0; si < strategies.size(); ++si) {
       if (options.interrupt && options.interrupt->load()) return false;
       nlohmann::json row;
@@ -623,24 +755,26 @@ BenchSummary RunBench(const BenchOptions& options) {
                {"order", strategies[si].order},
                {"failure", e.what()}};
       }
-      std::lock_guard<std::mutex> lock(mutex);
-      summary.failed += row.contains("failure");
-      rows[mi * strategies.size() + si] = row;
-      filled[mi * strategies.size() + si] = true;
-      try {
-        write_outputs();
-      } catch (...) {
-        if (!output_error) output_error = std::current_exception();
-        return false;
-      }
+      failed += row.contains("failure");
+      rows.push_back(std::move(row));
       Report(options.progress, {"bench", ++done, total, "captures"});
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    summary.failed += failed;
+    try {
+      WriteItemResult(options.out_dir, manifest, item,
+                      {{"material", materials[mi]}, {"rows", rows}, {"wall_s", Since(material_start)}});
+      write_outputs();
+    } catch (...) {
+      if (!output_error) output_error = std::current_exception();
+      return false;
     }
     return true;
   };
   // Materials in flight at once: each capture and fit is itself mostly single-threaded.
   const int in_flight = std::clamp(options.parallel_materials, 1, 16);
-  ParallelForEach(static_cast<int64_t>(materials.size()), in_flight,
-                  [&](int64_t mi) { return bench_material(static_cast<size_t>(mi)); });
+  ParallelForEach(static_cast<int64_t>(owned.size()), in_flight,
+                  [&](int64_t k) { return bench_material(owned[static_cast<size_t>(k)]); });
   if (output_error) std::rethrow_exception(output_error);
   std::lock_guard<std::mutex> lock(mutex);
   write_outputs();

@@ -37,6 +37,7 @@
 
 #include "acquisition/adaptive.h"
 #include "basis/progress.h"
+#include "tools/batch.h"
 
 namespace zbrdf {
 
@@ -67,6 +68,8 @@ struct BenchOptions {
   int ball_size = 64;
   int parallel_materials = 2;
   bool keep_frames = false;  // else each session's frames/ is deleted once processed
+  Shard shard;               // the materials this process runs (default: all)
+  std::vector<std::string> command_args;  // the command line, recorded in the manifest
   ProgressCallback progress;
   const std::atomic<bool>* interrupt = nullptr;
 
@@ -83,8 +86,25 @@ struct BenchSummary {
   int failed = 0;
 };
 
-// Throws InputError for bad options.
+// Throws InputError for bad options. A batch (tools/batch.h): one item per material (all its
+// strategies), listed in DIR/manifest.json first; each material's rows go to
+// DIR/items/<folder>.json (a rerun skips those materials) and the tables are rebuilt from them
+// (ReduceBench). The floor capture is shared: DIR/floor.json is reused when it was measured for
+// the same options, so shards (and `--executor slurm`, which measures it before submitting) do
+// not repeat it. A shard writes no table.
 BenchSummary RunBench(const BenchOptions& options);
+
+// The batch's manifest for these options.
+BatchManifest BenchManifest(const BenchOptions& options);
+
+// Measures the floor into DIR/floor.json (or finds it there, measured for the same options);
+// null when the options measure none. Interrupted: *interrupted is set and null returned.
+nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted = nullptr);
+
+// The reduce step: bench.json, bench.csv and the plots from DIR/items/ (the manifest's
+// materials, in order) and DIR/floor.json. bench.json's wall_s is null (item_wall_s_sum holds
+// the items' own wall times added up); a whole run sets it.
+BenchSummary ReduceBench(const std::string& out_dir);
 
 // Fixed (3 exposures by default: the thesis's) vs adaptive per order and material, from rows:
 // {"pairs": [{material, order, fixed_time_s, adaptive_time_s, saving, fixed_error,

@@ -59,10 +59,12 @@ TEST(BenchRun, JudgesAdaptiveByTheRenderableErrorToo) {
   EXPECT_FALSE(s["pairs"][2].contains("same_renderable_error"));
 }
 
-TEST(BenchRun, SameSeedSameErrors) {
+TEST(BenchRun, SameSeedSameErrorsWholeOrSharded) {
+  // The same bench twice: in one process, and as two shards (tools/batch.h) merged by
+  // ReduceBench. Same seed: the same errors, rig times and captures.
   BenchOptions o;
   o.rig_path = testing::SourceRig("thesis.yaml");
-  o.materials = {"lambertian:0.3"};
+  o.materials = {"lambertian:0.3", "lambertian:0.6"};
   o.orders = {2};
   o.exposures = {1};
   o.measure_floor = false;
@@ -77,7 +79,18 @@ TEST(BenchRun, SameSeedSameErrors) {
     dir += std::to_string(run);
     fs::remove_all(dir);
     o.out_dir = dir;
-    const BenchSummary s = RunBench(o);
+    BenchSummary s;
+    if (run == 0) {
+      s = RunBench(o);
+    } else {
+      for (int index : {1, 0}) {
+        o.shard = {index, 2};
+        const BenchSummary part = RunBench(o);
+        EXPECT_EQ(part.failed, 0);
+        EXPECT_FALSE(fs::exists(dir + "/bench.json")) << "a shard writes no table";
+      }
+      s = ReduceBench(dir);
+    }
     EXPECT_EQ(s.failed, 0) << s.table.dump(2);
     for (const char* f : {"bench.json", "bench.csv", "bench.png", "bench-renderable.png"})
       EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
@@ -86,15 +99,16 @@ TEST(BenchRun, SameSeedSameErrors) {
   }
   const nlohmann::json& a = tables[0]["rows"];
   const nlohmann::json& b = tables[1]["rows"];
-  ASSERT_EQ(a.size(), 2u);  // fixed-L2-x1, adaptive-L2
+  ASSERT_EQ(a.size(), 4u);  // per material: fixed-L2-x1, adaptive-L2
   ASSERT_EQ(b.size(), a.size());
   for (size_t i = 0; i < a.size(); ++i) {
-    for (const char* key : {"coefficient_error", "sh_error_cosine_l2", "sh_error_in_zone",
-                            "capture_time_s", "order_captured", "frames",
+    for (const char* key : {"material", "strategy", "coefficient_error", "sh_error_cosine_l2",
+                            "sh_error_in_zone", "capture_time_s", "order_captured", "frames",
                             "renderable_error_cosine_l2", "renderable_ball_rmse"}) {
       EXPECT_EQ(a[i][key], b[i][key]) << a[i]["strategy"] << " " << key;
     }
   }
+  EXPECT_EQ(tables[0]["summary"], tables[1]["summary"]);
   // The renderable error is measured on every capture. A sanity bound, not an accuracy claim
   // (docs/accuracy.md has those): the prior fit of a Lambertian from an order-2, one-exposure
   // capture measured 0.115 over the whole hemisphere (the zone sees 43% of it); a fit that

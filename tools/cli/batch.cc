@@ -3,12 +3,14 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "basis/error.h"
 #include "tools/accuracy.h"
 #include "tools/batch.h"
+#include "tools/bench_run.h"
 #include "tools/cli/command.h"
 #include "tools/fit_all.h"
 #include "tools/slurm.h"
@@ -33,9 +35,15 @@ int Merge(const std::string& dir, bool json) {
     const AccuracySummary s = ReduceAccuracy(dir);
     rows = static_cast<int>(s.table["items"].size());
     for (const auto& item : s.table["items"]) failed += item.contains("failure");
+  } else if (manifest.command == "bench") {
+    const BenchSummary s = ReduceBench(dir);
+    std::set<std::string> materials;
+    for (const auto& row : s.table["rows"]) materials.insert(row.value("material", std::string()));
+    rows = static_cast<int>(materials.size());
+    failed = s.failed;
   } else {
     throw InputError(dir + "/manifest.json names the command '" + manifest.command +
-                     "', which this zbrdf cannot merge (fit-all, accuracy)");
+                     "', which this zbrdf cannot merge (fit-all, accuracy, bench)");
   }
   const int missing = static_cast<int>(manifest.items.size()) - rows;
   if (json) {
@@ -163,7 +171,7 @@ int Resubmit(const std::string& dir, bool json) {
 
 int RunBatch(const std::vector<std::string>& args) {
   CommandLine cl("batch",
-                 "Bookkeeping of a batch folder (a fit-all or accuracy --out DIR; docs/cluster.md):\n"
+                 "Bookkeeping of a batch folder (a fit-all, accuracy or bench --out DIR; docs/cluster.md):\n"
                  "  merge DIR     build the command's tables and plots from the items' results\n"
                  "                (what an unsharded run writes; the Slurm merge job runs this)\n"
                  "  status DIR    items done, failed, running, stale (killed) and pending, per\n"
@@ -186,7 +194,7 @@ int RunBatch(const std::vector<std::string>& args) {
   throw InputError("unknown batch action '" + action + "'; use merge, status or resubmit (zbrdf batch --help)");
 }
 
-const CommandRegistration kReg({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy)",
+const CommandRegistration kReg({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench)",
                                 RunBatch});
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "basis/error.h"
 #include "basis/parallel.h"
 #include "tools/bench_run.h"
+#include "tools/cli/batch_flags.h"
 #include "tools/cli/command.h"
 #include "tools/fit_all.h"
 #include "tools/interrupt.h"
@@ -62,10 +63,12 @@ int RunBenchCommand(const std::vector<std::string>& args) {
       .Option("truth-samples", "N", "samples per exitant point of the true coefficients", "1024")
       .Option("jobs", "N", "materials at once (default: min(2, worker threads))")
       .Flag("keep-frames", "keep each session's raw frames (default: deleted once processed)")
-      .Flag("json", "print bench.json's summary as JSON")
-      .Epilog(
+      .Flag("json", "print bench.json's summary as JSON");
+  AddBatchFlags(cl);
+  cl.Epilog(
           "Examples:\n"
           "  zbrdf bench --out results/bench            # default set, ~10 min on 2 cores\n"
+          "  zbrdf bench --out results/bench --executor slurm --shards 12   # docs/cluster.md\n"
           "  zbrdf bench --materials merl:white-diffuse-bball,merl:chrome --orders 4,8 \\\n"
           "      --exposures 3 --out results/bench-small --json\n\n"
           "bench.json keys: rig, preset, seed, materials, orders, exposures, adaptive_options,\n"
@@ -105,10 +108,29 @@ int RunBenchCommand(const std::vector<std::string>& args) {
   options.parallel_materials =
       cl.Has("jobs") ? cl.GetInt("jobs", 1, 16) : std::min(2, WorkerThreads());
   options.keep_frames = cl.Has("keep-frames");
+  const BatchRun batch = ReadBatchFlags(cl);
+  options.shard = batch.shard;
+  options.command_args = ManifestArgs(args);
+  if (batch.slurm) {
+    const BatchManifest manifest = BenchManifest(options);
+    PrepareManifest(options.out_dir, manifest, Shard{});
+    // The floor capture every shard needs, measured once here (a few seconds at the fast preset).
+    MeasureBenchFloor(options);
+    // Per material on 2 cores (docs/bench.md: the default set of 12, orders 4-10, takes about 10
+    // minutes at the fast preset): 2 minutes, 4x that at full resolution.
+    const double item_s = (options.preset == "full" ? 480.0 : 120.0) *
+                          static_cast<double>(options.orders.size()) / 4.0;
+    return SubmitBatchToSlurm(options.out_dir, manifest, batch, item_s, cl.Has("json"));
+  }
   TerminalProgress progress(false);
   options.progress = progress.Callback();
   options.interrupt = InstallInterruptHandler();
   const BenchSummary summary = RunBench(options);
+  if (!options.shard.IsWhole()) {
+    std::printf("bench shard %s done (%d failed captures); the tables: zbrdf batch merge %s\n",
+                options.shard.ToString().c_str(), summary.failed, options.out_dir.c_str());
+    return summary.interrupted ? 130 : 0;
+  }
   const nlohmann::json& s = summary.table.value("summary", nlohmann::json::object());
   if (cl.Has("json")) {
     nlohmann::json j = summary.table;
