@@ -45,6 +45,58 @@ int BrdfPrior::MaterialIndex(const std::string& name) const {
   return -1;
 }
 
+std::vector<float> PriorAtoms(const PriorSource& s, const HalfDiffGrid& grid) {
+  const std::vector<Rgb> table = TabulateBrdf(*s.brdf, grid);
+  const size_t n_nodes = static_cast<size_t>(grid.size());
+  std::vector<float> atoms(3 * n_nodes);
+  Rgb sum;
+  for (size_t n = 0; n < n_nodes; ++n) {
+    if (!table[n].IsFinite()) {
+      throw InputError("prior: material " + s.name + " (" + s.source +
+                       ") evaluates to a non-finite value; it cannot enter a prior");
+    }
+    for (int c = 0; c < 3; ++c) atoms[c * n_nodes + n] = static_cast<float>(std::max(0.0, table[n][c]));
+    sum += table[n];
+  }
+  if (!(sum.Max() > 0)) {
+    throw InputError("prior: material " + s.name + " (" + s.source +
+                     ") is zero everywhere; it cannot enter a prior");
+  }
+  return atoms;
+}
+
+BrdfPrior AssemblePrior(const HalfDiffGrid& grid, const std::vector<std::string>& names,
+                        const std::vector<std::string>& sources,
+                        const std::vector<std::vector<float>>& atoms) {
+  if (names.empty()) throw InputError("prior: no materials to build it from");
+  if (sources.size() != names.size() || atoms.size() != names.size()) {
+    throw InputError("prior: names, sources and atoms disagree in count");
+  }
+  std::set<std::string> seen;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (!seen.insert(names[k]).second) {
+      throw InputError("prior: material name " + names[k] + " appears twice (" + sources[k] +
+                       "); names identify the materials a fit may leave out");
+    }
+  }
+  const size_t n_nodes = static_cast<size_t>(grid.size());
+  BrdfPrior prior{grid, names, sources, Eigen::MatrixXf(grid.size(), 3 * names.size()), {}};
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (atoms[k].size() != 3 * n_nodes) {
+      throw InputError("prior: material " + names[k] + " has " + std::to_string(atoms[k].size()) +
+                       " atom values, the grid " + grid.ToString() + " needs " +
+                       std::to_string(3 * n_nodes));
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (size_t n = 0; n < n_nodes; ++n) prior.atoms(n, 3 * k + c) = atoms[k][c * n_nodes + n];
+    }
+  }
+  prior.info = {{"grid", grid.ToString()},
+                {"materials", prior.material_count()},
+                {"symmetrized", "mean of phi_d and pi - phi_d; reciprocal by the fold"}};
+  return prior;
+}
+
 BrdfPrior BuildPrior(const std::vector<PriorSource>& sources, const HalfDiffGrid& grid,
                      const ProgressCallback& progress) {
   if (sources.empty()) throw InputError("prior: no materials to build it from");
@@ -55,32 +107,16 @@ BrdfPrior BuildPrior(const std::vector<PriorSource>& sources, const HalfDiffGrid
                        "); names identify the materials a fit may leave out");
     }
   }
-  BrdfPrior prior{grid, {}, {}, Eigen::MatrixXf(grid.size(), 3 * sources.size()), {}};
+  std::vector<std::string> material_names, material_sources;
+  std::vector<std::vector<float>> atoms;
   for (size_t k = 0; k < sources.size(); ++k) {
-    const PriorSource& s = sources[k];
-    const std::vector<Rgb> table = TabulateBrdf(*s.brdf, grid);
-    Rgb sum;
-    for (int n = 0; n < grid.size(); ++n) {
-      if (!table[n].IsFinite()) {
-        throw InputError("prior: material " + s.name + " (" + s.source +
-                         ") evaluates to a non-finite value; it cannot enter a prior");
-      }
-      for (int c = 0; c < 3; ++c) prior.atoms(n, 3 * k + c) = static_cast<float>(std::max(0.0, table[n][c]));
-      sum += table[n];
-    }
-    if (!(sum.Max() > 0)) {
-      throw InputError("prior: material " + s.name + " (" + s.source +
-                       ") is zero everywhere; it cannot enter a prior");
-    }
-    prior.materials.push_back(s.name);
-    prior.sources.push_back(s.source);
+    atoms.push_back(PriorAtoms(sources[k], grid));
+    material_names.push_back(sources[k].name);
+    material_sources.push_back(sources[k].source);
     Report(progress, {"prior", static_cast<long>(k + 1), static_cast<long>(sources.size()),
                       "materials"});
   }
-  prior.info = {{"grid", grid.ToString()},
-                {"materials", prior.material_count()},
-                {"symmetrized", "mean of phi_d and pi - phi_d; reciprocal by the fold"}};
-  return prior;
+  return AssemblePrior(grid, material_names, material_sources, atoms);
 }
 
 void WritePriorFile(const std::string& path, const BrdfPrior& prior) {

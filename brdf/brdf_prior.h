@@ -57,6 +57,16 @@ struct PriorSource {
 BrdfPrior BuildPrior(const std::vector<PriorSource>& sources, const HalfDiffGrid& grid,
                      const ProgressCallback& progress = nullptr);
 
+// BuildPrior's two steps, for builds split over processes (tools/prior_build.h):
+// one material's atoms (grid.size() x 3, column-major: channel c at [c * grid.size() + n]),
+// with BuildPrior's checks and errors;
+std::vector<float> PriorAtoms(const PriorSource& source, const HalfDiffGrid& grid);
+// and the prior from every material's name, source and atoms, in order (InputError for none, a
+// duplicate name or atoms of the wrong size).
+BrdfPrior AssemblePrior(const HalfDiffGrid& grid, const std::vector<std::string>& names,
+                        const std::vector<std::string>& sources,
+                        const std::vector<std::vector<float>>& atoms);
+
 // Throws InputError naming the file if it cannot be written.
 void WritePriorFile(const std::string& path, const BrdfPrior& prior);
 // Throws InputError naming the file and the problem (not OpenEXR, not a prior, a missing or

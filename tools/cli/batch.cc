@@ -13,6 +13,7 @@
 #include "tools/bench_run.h"
 #include "tools/cli/command.h"
 #include "tools/fit_all.h"
+#include "tools/prior_build.h"
 #include "tools/slurm.h"
 
 namespace zbrdf::cli {
@@ -41,9 +42,16 @@ int Merge(const std::string& dir, bool json) {
     for (const auto& row : s.table["rows"]) materials.insert(row.value("material", std::string()));
     rows = static_cast<int>(materials.size());
     failed = s.failed;
+  } else if (manifest.command == "prior") {
+    const BrdfPrior prior = ReducePriorBuild(dir);  // throws naming what is missing
+    rows = prior.material_count();
+    if (!json) {
+      std::printf("prior: wrote %s (%d materials)\n",
+                  manifest.options.value("out", std::string()).c_str(), rows);
+    }
   } else {
     throw InputError(dir + "/manifest.json names the command '" + manifest.command +
-                     "', which this zbrdf cannot merge (fit-all, accuracy, bench)");
+                     "', which this zbrdf cannot merge (fit-all, accuracy, bench, prior)");
   }
   const int missing = static_cast<int>(manifest.items.size()) - rows;
   if (json) {
@@ -171,7 +179,8 @@ int Resubmit(const std::string& dir, bool json) {
 
 int RunBatch(const std::vector<std::string>& args) {
   CommandLine cl("batch",
-                 "Bookkeeping of a batch folder (a fit-all, accuracy or bench --out DIR; docs/cluster.md):\n"
+                 "Bookkeeping of a batch folder (a fit-all, accuracy or bench --out DIR, a prior build's\n"
+                 "--batch-dir; docs/cluster.md):\n"
                  "  merge DIR     build the command's tables and plots from the items' results\n"
                  "                (what an unsharded run writes; the Slurm merge job runs this)\n"
                  "  status DIR    items done, failed, running, stale (killed) and pending, per\n"
@@ -194,7 +203,7 @@ int RunBatch(const std::vector<std::string>& args) {
   throw InputError("unknown batch action '" + action + "'; use merge, status or resubmit (zbrdf batch --help)");
 }
 
-const CommandRegistration kReg({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench)",
+const CommandRegistration kReg({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench, prior build)",
                                 RunBatch});
 
 }  // namespace

@@ -13,55 +13,15 @@
 #include "brdf/brdf_prior.h"
 #include "brdf/material_spec.h"
 #include "brdf/nbrdf.h"
+#include "tools/cli/batch_flags.h"
 #include "tools/cli/command.h"
+#include "tools/prior_build.h"
 #include "tools/terminal_progress.h"
 
 namespace zbrdf::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The readable BRDF files of a folder, by name: MERL tables, networks, RGL files.
-std::vector<std::string> FilesIn(const std::string& dir) {
-  std::vector<std::string> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string ext = entry.path().extension().string();
-    if (entry.is_regular_file() && (ext == ".binary" || ext == ".json" || ext == ".bsdf")) {
-      files.push_back(entry.path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-// Sources from --from items: merl:* / rgl:* (a bundled set), a spec, a file, or a folder.
-std::vector<PriorSource> CollectSources(const std::vector<std::string>& items) {
-  std::vector<PriorSource> sources;
-  auto add_file = [&sources](const std::string& path) {
-    BrdfFile file = ReadBrdfFile(path);
-    sources.push_back({fs::path(path).stem().string(), file.brdf, path});
-  };
-  for (const std::string& item : items) {
-    if (item == "merl:*" || item == "rgl:*") {
-      const std::string set = item.substr(0, item.find(':'));
-      for (const std::string& name : BundledMaterialNames(set)) {
-        sources.push_back({name, NbrdfBrdf::FromName(name, set), set + ":" + name});
-      }
-    } else if (fs::is_directory(item)) {
-      const std::vector<std::string> files = FilesIn(item);
-      if (files.empty()) {
-        throw InputError("--from " + item + ": the folder holds no .binary, .json or .bsdf file");
-      }
-      for (const std::string& f : files) add_file(f);
-    } else if (fs::exists(item)) {
-      add_file(item);
-    } else {
-      std::shared_ptr<const Brdf> brdf = MakeBrdf(item);
-      sources.push_back({MaterialShortName(item), brdf, item});
-    }
-  }
-  return sources;
-}
 
 int RunBuild(const std::vector<std::string>& args) {
   CommandLine cl("prior build",
@@ -75,24 +35,53 @@ int RunBuild(const std::vector<std::string>& args) {
       .Option("out", "FILE.exr", "the prior file to write")
       .Option("exclude", "NAMES", "materials to leave out, comma-separated")
       .Option("grid", "NH,ND,NP", "node counts in theta_h, theta_d, phi_d", "32,32,16")
-      .Flag("json", "print a JSON summary")
-      .Epilog("Examples:\n"
+      .Option("batch-dir", "DIR", "with --shard or --executor slurm: the batch folder (default: FILE.exr.batch)")
+      .Flag("json", "print a JSON summary");
+  AddBatchFlags(cl);
+  cl.Epilog("Examples:\n"
               "  zbrdf prior build --from 'merl:*' --out data/priors/merl100.exr\n"
               "  zbrdf prior build --from 'merl:*,rgl:*' --out merl-rgl.exr\n"
-              "  zbrdf prior build --from ~/brdfs/merl-binary/ --out lab.exr");
+              "  zbrdf prior build --from ~/brdfs/merl-binary/ --out lab.exr\n"
+              "  zbrdf prior build --from /shared/brdfs/ --out /shared/lab.exr --executor slurm --shards 40\n"
+              "A batch (--shard I/N, --executor slurm; docs/cluster.md) tabulates one material per\n"
+              "item into the batch folder; `zbrdf batch merge DIR` writes the prior file.");
   if (!cl.Parse(args)) return 0;
   if (!cl.Has("from") || !cl.Has("out")) throw InputError("prior build needs --from and --out (see --help)");
-  std::vector<PriorSource> sources = CollectSources(cl.GetList("from"));
-  if (cl.Has("exclude")) {
-    const std::vector<std::string> list = cl.GetList("exclude");
-    const std::set<std::string> exclude(list.begin(), list.end());
-    std::erase_if(sources, [&](const PriorSource& s) { return exclude.count(s.name) > 0; });
-  }
   const std::vector<double> dims = cl.GetDoubles("grid", 3);
   for (double d : dims) {
     if (d != std::floor(d)) throw InputError("--grid needs three whole node counts (got " + cl.Get("grid") + ")");
   }
   const HalfDiffGrid grid(static_cast<int>(dims[0]), static_cast<int>(dims[1]), static_cast<int>(dims[2]));
+  PriorBuildOptions build;
+  build.from = cl.GetList("from");
+  if (cl.Has("exclude")) build.exclude = cl.GetList("exclude");
+  build.grid = grid;
+  build.out = cl.Get("out");
+  if (cl.Has("batch-dir")) build.batch_dir = cl.Get("batch-dir");
+  const BatchRun batch = ReadBatchFlags(cl);
+  build.shard = batch.shard;
+  build.command_args = ManifestArgs(args);
+  build.command_args.insert(build.command_args.begin(), "build");
+  if (batch.slurm || !batch.shard.IsWhole()) {
+    if (batch.slurm) {
+      const BatchManifest manifest = PriorBuildManifest(build);
+      PrepareManifest(build.BatchDir(), manifest, Shard{});
+      // A material's tabulation: about 1 s for a network, 10 s for a 33 MB MERL table read from
+      // a shared file system.
+      return SubmitBatchToSlurm(build.BatchDir(), manifest, batch, 10.0, cl.Has("json"));
+    }
+    TerminalProgress bar(cl.Has("json"));
+    build.progress = bar.Callback();
+    const int tabulated = RunPriorBuildShard(build);
+    std::printf("prior build shard %s: %d materials tabulated into %s; the prior: zbrdf batch merge %s\n",
+                build.shard.ToString().c_str(), tabulated, build.BatchDir().c_str(),
+                build.BatchDir().c_str());
+    return 0;
+  }
+  std::vector<PriorSource> sources;
+  for (const PriorSourceRef& ref : CollectPriorSources(build.from, build.exclude)) {
+    sources.push_back(LoadPriorSource(ref));
+  }
   TerminalProgress bar(cl.Has("json"));
   BrdfPrior prior = BuildPrior(sources, grid, bar.Callback());
   nlohmann::json from = nlohmann::json::array();
