@@ -75,10 +75,15 @@ abs_dir() {
 
 # Is PID alive and one that this DIR started? Guards against PID reuse: the process must be the
 # named program and its command line must mention DIR (all daemons get DIR paths as arguments).
+# A zombie (exited, not yet reaped by init, which some container inits do late) counts as gone.
 is_ours() {
-  local pid=$1 name=$2 dir=$3 comm cmdline
+  local pid=$1 name=$2 dir=$3 comm cmdline stat
   [[ $pid =~ ^[0-9]+$ ]] || return 1
   [[ -r /proc/$pid/comm ]] || return 1
+  stat=$(cat "/proc/$pid/stat" 2>/dev/null) || return 1
+  # Field 3 of /proc/PID/stat, after the ")" that ends the command name, is the state.
+  stat=${stat##*) }
+  [[ ${stat:0:1} != Z ]] || return 1
   comm=$(cat "/proc/$pid/comm" 2>/dev/null) || return 1
   [[ $comm == "$name" ]] || return 1
   cmdline=$(tr '\0' ' ' <"/proc/$pid/cmdline" 2>/dev/null) || return 1
@@ -238,17 +243,19 @@ cmd_start() {
   fi
   chmod 0600 "$key"
   local munged_pid
+  # --foreground: this script keeps its PID; it then logs to stderr (DIR/log/munged.stdio), so
+  # --log-file only keeps it off /var/log/munge. Harmless there: "Unauthorized credential for
+  # client UID=0 GID=0" once per daemon start and job (a known Slurm 22.05 check, fixed in 23.02).
   munged_pid=$(launch "$dir" munged munged --foreground \
     --socket="$sock" --key-file="$key" --pid-file="$dir/munge/munged.pid" \
-    --log-file="$dir/munge/munged.log" --seed-file="$dir/munge/munged.seed")
+    --log-file="$dir/log/munged.log" --seed-file="$dir/munge/munged.seed")
   for _ in $(seq 1 100); do
     [[ -S $sock ]] && break
     kill -0 "$munged_pid" 2>/dev/null ||
-      fail_start "$dir" "munged exited at startup; read $dir/munge/munged.log and $dir/log/munged.stdio" \
-        "$dir/munge/munged.log" "$dir/log/munged.stdio"
+      fail_start "$dir" "munged exited at startup; read $dir/log/munged.stdio" "$dir/log/munged.stdio"
     sleep 0.1
   done
-  [[ -S $sock ]] || fail_start "$dir" "munged did not create $sock within 10 s; read $dir/munge/munged.log" "$dir/munge/munged.log"
+  [[ -S $sock ]] || fail_start "$dir" "munged did not create $sock within 10 s; read $dir/log/munged.stdio" "$dir/log/munged.stdio"
 
   # --- slurm.conf ------------------------------------------------------------------------------
   local host cpus mem node_line ctl_port d_port
@@ -318,10 +325,16 @@ NodeName=$host NodeAddr=127.0.0.1 NodeHostname=$host CPUs=$cpus RealMemory=$mem 
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
   export SLURM_CONF=$dir/slurm.conf
+  # slurmd logs an error at startup if its spool folder (SlurmdSpoolDir, %n = node name) is missing.
+  mkdir -p "$dir/spool/$host"
 
   # --- slurmctld and slurmd --------------------------------------------------------------------
   # -D: foreground (this script keeps the PID); -c: clear any previous state; -i: ignore errors in
   # state files. -N: the node name, in case `hostname` and NodeName ever differ.
+  # Harmless in their logs: "mpi/pmix_v4 ... can not load PMIx library" (Debian's slurm loads
+  # every MPI plugin even with MpiDefault=none), "Could not open job state file" (fresh state),
+  # "xcpuinfo_hwloc_topo_load: failed" and "Node reconfigured socket/core boundaries" (the node is
+  # described by CPUs only, see above).
   local ctl_pid d_pid
   ctl_pid=$(launch "$dir" slurmctld slurmctld -D -c -i -f "$SLURM_CONF")
   d_pid=$(launch "$dir" slurmd slurmd -D -N "$host" -f "$SLURM_CONF")
@@ -330,7 +343,7 @@ EOF
   local deadline=$((SECONDS + START_TIMEOUT_S)) state=""
   while ((SECONDS < deadline)); do
     kill -0 "$munged_pid" 2>/dev/null ||
-      fail_start "$dir" "munged exited; read $dir/munge/munged.log" "$dir/munge/munged.log"
+      fail_start "$dir" "munged exited; read $dir/log/munged.stdio" "$dir/log/munged.stdio"
     kill -0 "$ctl_pid" 2>/dev/null ||
       fail_start "$dir" "slurmctld exited at startup; read $dir/log/slurmctld.log and $dir/log/slurmctld.stdio" \
         "$dir/log/slurmctld.log" "$dir/log/slurmctld.stdio"

@@ -92,7 +92,8 @@ std::string SubmitScript(const std::vector<std::string>& sbatch_args) {
                       (r.status < 0 ? "did not run" : "exited with " + std::to_string(r.status)) +
                       (out.empty() ? std::string() : ": " + out) +
                       ". Check that the Slurm client commands are on PATH and SLURM_CONF names "
-                      "the cluster's slurm.conf, then run `zbrdf batch resubmit DIR`");
+                      "the cluster's slurm.conf, then run the same command again (items already "
+                      "done are kept)");
   }
   // The last line is the id (sbatch may print warnings before it).
   const size_t line = out.find_last_of('\n');
