@@ -30,7 +30,9 @@ void ParallelFor(int64_t count, int64_t grain, int max_threads,
   const int threads = static_cast<int>(
       std::min<int64_t>(std::clamp(max_threads, 1, 256), (count + grain - 1) / grain));
   if (threads <= 1) {
-    body(0, count);
+    // Chunks of at most grain items here too: bodies size buffers by it (a single chunk of count
+    // items overflowed the HDR merge's stack blocks with ZBRDF_THREADS=1).
+    for (int64_t begin = 0; begin < count; begin += grain) body(begin, std::min(count, begin + grain));
     return;
   }
   std::atomic<int64_t> next{0};
@@ -58,11 +60,31 @@ void ParallelFor(int64_t count, int64_t grain, int max_threads,
 }
 
 void ParallelForEach(int64_t count, int max_threads, const std::function<bool(int64_t)>& item) {
-  ParallelFor(count, 1, max_threads, [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i) {
-      if (!item(i)) return;
+  if (count <= 0) return;
+  const int threads = static_cast<int>(std::min<int64_t>(std::clamp(max_threads, 1, 256), count));
+  std::atomic<int64_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  // Each thread takes items one at a time until one returns false (then it takes no more).
+  auto worker = [&]() {
+    while (true) {
+      const int64_t i = next.fetch_add(1);
+      if (i >= count) return;
+      try {
+        if (!item(i)) return;
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next.store(count);
+        return;
+      }
     }
-  });
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace zbrdf

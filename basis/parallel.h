@@ -11,7 +11,8 @@ namespace zbrdf {
 int WorkerThreads();
 
 // Calls body(begin, end) on disjoint chunks covering [0, count), from up to WorkerThreads()
-// threads, chunks handed out dynamically (grain: chunk size). The first exception thrown by a
+// threads, chunks handed out dynamically (grain: chunk size; every chunk has at most grain items,
+// also on one thread, so a body may size stack buffers by it). The first exception thrown by a
 // body is rethrown after all threads have stopped. Deterministic results require that each
 // index's work depends only on the index, not on the chunking.
 void ParallelFor(int64_t count, int64_t grain, const std::function<void(int64_t, int64_t)>& body);

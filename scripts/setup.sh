@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   umockdev xvfb x11-utils
   clang libclang-rt-14-dev
+  slurmctld slurmd slurm-client munge
 )
 
 missing=()

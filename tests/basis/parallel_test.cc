@@ -12,8 +12,8 @@
 namespace zbrdf {
 namespace {
 
-// Each index in exactly one chunk, chunks disjoint and within [0, count), for any grain and
-// thread count.
+// Each index in exactly one chunk, chunks disjoint, within [0, count) and at most grain long,
+// for any grain and thread count (one thread included).
 TEST(ParallelFor, CoversEveryIndexOnce) {
   for (int max_threads : {1, 2, 3, 8}) {
     for (int64_t grain : {1, 7, 1000}) {
@@ -23,6 +23,7 @@ TEST(ParallelFor, CoversEveryIndexOnce) {
         ASSERT_LE(0, begin);
         ASSERT_LT(begin, end);
         ASSERT_LE(end, count);
+        ASSERT_LE(end - begin, grain) << "threads " << max_threads;  // bodies size buffers by it
         for (int64_t i = begin; i < end; ++i) ++hits[i];
       });
       for (int64_t i = 0; i < count; ++i) {
@@ -74,6 +75,13 @@ TEST(ParallelForEach, AnItemReturningFalseStopsItsThread) {
     return true;
   });
   EXPECT_EQ(count.load(), 50);
+  // Two threads, each stopping at its first item: two items run, not ten.
+  count = 0;
+  ParallelForEach(10, 2, [&](int64_t) {
+    ++count;
+    return false;
+  });
+  EXPECT_EQ(count.load(), 2);
 }
 
 }  // namespace

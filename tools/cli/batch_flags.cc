@@ -77,6 +77,8 @@ std::vector<std::string> ManifestArgs(const std::vector<std::string>& args) {
   std::vector<std::string> out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    // --json shapes this process's own report (e.g. the job ids); shard logs are for people.
+    if (a == "--json") continue;
     if (a.rfind("--", 0) == 0) {
       const size_t eq = a.find('=');
       const std::string name = a.substr(2, eq == std::string::npos ? std::string::npos : eq - 2);

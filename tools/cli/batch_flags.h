@@ -24,7 +24,8 @@ struct BatchRun {
 // Throws InputError for a bad value, or for --shard with --executor slurm.
 BatchRun ReadBatchFlags(const CommandLine& cl);
 
-// The command's arguments without the flags AddBatchFlags adds: what each shard reruns.
+// The command's arguments without the flags AddBatchFlags adds and without --json: what each
+// shard reruns (its log is for people).
 std::vector<std::string> ManifestArgs(const std::vector<std::string>& args);
 
 // Submits the batch in dir (its manifest written) to Slurm and prints the job ids (or, with
