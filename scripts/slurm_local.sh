@@ -8,10 +8,18 @@
 #                                             it, start munged, slurmctld and slurmd, wait until
 #                                             the node is idle, then print ONE line on stdout:
 #                                                 export SLURM_CONF=DIR/slurm.conf
-#                                             so that callers can `eval "$(... start DIR)"`.
-#   bash scripts/slurm_local.sh stop DIR     stop exactly the daemons whose PIDs start recorded
-#                                             in DIR/pids (TERM, wait, then KILL). Idempotent.
+#                                             so that callers can evaluate it:
+#                                               out=$(bash scripts/slurm_local.sh start "$d") && eval "$out"
+#                                             (a bare `eval "$(...)"` would hide a failed start).
+#   bash scripts/slurm_local.sh stop DIR     cancel the cluster's jobs (so their processes end),
+#                                             then stop exactly the daemons whose PIDs start
+#                                             recorded in DIR/pids (TERM, wait, then KILL).
+#                                             Idempotent; never signals any other process.
 #
+# SLURM_LOCAL_START_TIMEOUT (seconds, default 30) bounds start's wait for the idle node.
+#
+# DIR must be an absolute or relative path without whitespace, at most 80 characters (munge's
+# socket path must fit a Unix socket address); folders above it must be searchable by all.
 # Everything lives under DIR: munge key, socket, pid, log and seed files; slurm.conf; state,
 # spool, pid and log files of slurmctld and slurmd. Nothing under /etc, /run or /var is used or
 # changed, so the cluster never clashes with a system Slurm or munge, and several clusters (in
@@ -115,7 +123,8 @@ stop_dir() {
   done
   if ((ctl_alive)) && [[ -f $dir/slurm.conf ]]; then
     local jobs
-    jobs=$(SLURM_CONF=$dir/slurm.conf timeout 10 squeue -h -o %A 2>/dev/null || true)
+    # %F: the array's job id for array tasks (cancelling it cancels every task), else the job id.
+    jobs=$(SLURM_CONF=$dir/slurm.conf timeout 10 squeue -h -o %F 2>/dev/null | sort -u || true)
     if [[ -n $jobs ]]; then
       # shellcheck disable=SC2086  # word splitting of the job id list is intended
       SLURM_CONF=$dir/slurm.conf timeout 10 scancel $jobs 2>/dev/null || true
@@ -185,12 +194,13 @@ launch() {
   printf '%s\n' "$pid"
 }
 
-# Print the last lines of a daemon log on stderr, for failure messages.
+# Print the last lines of a daemon log on stderr, for failure messages, without the harmless
+# PMIx noise (see cmd_start).
 show_log() {
   local f=$1
   [[ -s $f ]] || return 0
   echo "---- last lines of $f ----" >&2
-  tail -n 15 "$f" >&2 || true
+  grep -v -E 'pmix|PMIx|MPI: Cannot create context' "$f" | tail -n 15 >&2 || true
 }
 
 # start failed: say why and what to read, stop what this run started, exit 1.
@@ -224,6 +234,10 @@ cmd_start() {
 
   # Fresh generated content each time; only the subfolders this script owns are wiped.
   mkdir -p "$dir"
+  # munged wants every folder above its socket searchable by all ("Socket is inaccessible:
+  # execute permissions for all required"); `mktemp -d` makes DIR 0700. Add search (x) only,
+  # not read: others still cannot list DIR.
+  chmod go+x "$dir"
   rm -rf "$dir/munge" "$dir/state" "$dir/spool" "$dir/log" "$dir/run"
   mkdir -p "$dir/state" "$dir/spool" "$dir/log" "$dir/run"
   # munged refuses a key, socket or log folder that group/other can write, a key that others can
