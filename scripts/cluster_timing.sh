@@ -8,7 +8,8 @@ cd "$(dirname "$0")/.."
 zbrdf=$(realpath "${1:-build/zbrdf}")
 work=$(mktemp -d /tmp/zbrdf-cluster-timing.XXXXXX)
 chmod 755 "$work"
-eval "$(bash scripts/slurm_local.sh start "$work/cluster")"
+started=$(bash scripts/slurm_local.sh start "$work/cluster")  # exits here if the daemons fail
+eval "$started"
 export SLURM_CONF
 trap 'bash scripts/slurm_local.sh stop "$work/cluster"' EXIT
 materials='merl:blue-acrylic,merl:gold-metallic-paint,merl:white-diffuse-bball,merl:chrome,merl:red-plastic,merl:alum-bronze'
