@@ -490,6 +490,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             const auto& path = paths[s % landed];
             const bool uniform = s < n_zone;
             Vec3 w_i;
+            double p_lobe = -1;  // the glossy density at w_i, when the sampler already gave it
             if (uniform) {
               w_i = coverage.Sample(zone_dirs.u[s], zone_dirs.v[s]);
             } else {
@@ -499,12 +500,14 @@ void ForwardModel::BuildTransport(const Brdf& material) {
                   material.SampleGlossy(path.w, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
               if (bs.pdf <= 0 || bs.is_delta) continue;
               w_i = bs.w_i;
+              p_lobe = bs.pdf;  // SampleGlossy's pdf is GlossyPdf(path.w, w_i): not computed twice
             }
             if (w_i.z <= 0) continue;
             const double theta_i = SphericalTheta(w_i), phi_i = SphericalPhi(w_i);
             const double p_zone = coverage.PdfAngles(w_i, theta_i, phi_i);
             if (p_zone <= 0) continue;  // not lit
-            const double q = n_zone * p_zone + (n_lobe > 0 ? n_lobe * material.GlossyPdf(path.w, w_i) : 0.0);
+            if (n_lobe > 0 && p_lobe < 0) p_lobe = material.GlossyPdf(path.w, w_i);
+            const double q = n_zone * p_zone + (n_lobe > 0 ? n_lobe * p_lobe : 0.0);
             weight[m] = 1.0 / q;  // balance heuristic: f cos / (n_zone p_zone + n_lobe p_lobe)
             if (!(weight[m] > 0) || !std::isfinite(weight[m])) continue;
             w_in[m] = w_i;
