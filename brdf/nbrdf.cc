@@ -9,6 +9,7 @@
 
 #include "basis/data_path.h"
 #include "basis/error.h"
+#include "basis/strings.h"
 
 namespace zbrdf {
 namespace {
@@ -63,23 +64,6 @@ NbrdfNetwork::Layer ReadLayer(const std::string& path, const nlohmann::json& jso
                &layer.weights);
   read_numbers("bias", layer.out, &layer.bias);
   return layer;
-}
-
-// Edit distance, for suggesting names close to a mistyped one.
-size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t next =
-          std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = row[j];
-      row[j] = next;
-    }
-  }
-  return row[b.size()];
 }
 
 // The network's input for one pair (README steps 1-3), or false below the horizon.
@@ -224,15 +208,10 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name, const st
   const std::string folder = "data/materials/" + set;
   const std::vector<std::string> names = BundledMaterialNames(set);
   if (!std::binary_search(names.begin(), names.end(), name)) {
-    std::vector<std::pair<size_t, std::string>> close;
-    for (const std::string& candidate : names) {
-      const size_t distance = EditDistance(name, candidate);
-      if (distance <= std::max<size_t>(2, name.size() / 3)) close.emplace_back(distance, candidate);
-    }
-    std::sort(close.begin(), close.end());
+    const std::vector<std::string> close = ClosestNames(name, names);
     std::string message = "unknown measured material '" + name + "'";
-    for (size_t k = 0; k < std::min<size_t>(close.size(), 3); ++k) {
-      message += (k == 0 ? "; did you mean '" : " or '") + close[k].second + "'";
+    for (size_t k = 0; k < close.size(); ++k) {
+      message += (k == 0 ? "; did you mean '" : " or '") + close[k] + "'";
     }
     message += (close.empty() ? "; the " : "? The ") + std::to_string(names.size()) +
                " bundled materials are the NAME.json files in " + DataPath(folder) + "; use " +

@@ -2,17 +2,21 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <optional>
 #include <set>
 #include <sstream>
 
+#include "basis/data_path.h"
 #include "basis/error.h"
 #include "basis/hash.h"
+#include "basis/strings.h"
 
 namespace zbrdf {
 
@@ -419,12 +423,48 @@ Rig ParseRig(const std::string& yaml_text, const std::string& name_for_errors) {
   return rig;
 }
 
-Rig LoadRig(const std::string& path) {
+namespace {
+
+// The rigs shipped with zbrdf: the NAME.yaml files in DataRoot()/rig/rigs, sorted.
+std::vector<std::string> BundledRigNames() {
+  std::vector<std::string> names;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(DataPath("rig/rigs"), error)) {
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string CommaList(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& name : names) out += (out.empty() ? "" : ", ") + name;
+  return out.empty() ? "none found" : out;
+}
+
+}  // namespace
+
+Rig LoadRig(const std::string& path_or_name) {
+  std::string path = path_or_name;
+  std::error_code error;
+  const bool bare_name = !path.empty() && path.find_first_of("/.") == std::string::npos;
+  if (bare_name && !std::filesystem::exists(path, error)) {
+    path = DataPath("rig/rigs/" + path + ".yaml");
+  }
   std::ifstream in(path);
+  if (!in && bare_name) {
+    const std::vector<std::string> names = BundledRigNames();
+    const std::vector<std::string> close = ClosestNames(path_or_name, names);
+    throw InputError("rig '" + path_or_name + "' is neither a file nor a bundled rig" +
+                     (close.empty() ? "" : "; did you mean '" + close.front() + "'?") +
+                     " Give the path of a rig YAML or the name of a bundled rig (" +
+                     CommaList(names) + ", in " + DataPath("rig/rigs") + ")");
+  }
   if (!in) {
     throw InputError("rig file " + path +
                      " cannot be read; give the path of a rig YAML such as "
-                     "rig/rigs/thesis.yaml");
+                     "rig/rigs/thesis.yaml, or the name of a bundled rig (" +
+                     CommaList(BundledRigNames()) + ")");
   }
   std::stringstream text;
   text << in.rdbuf();

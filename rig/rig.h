@@ -114,8 +114,11 @@ struct Rig {
   SimulationParams simulation;
 };
 
-// Reads and validates a rig file. Throws InputError listing every problem found.
-Rig LoadRig(const std::string& path);
+// Reads and validates a rig file. A name without '/' or '.' that is not a file in the current
+// folder is a bundled rig: "thesis" reads rig/rigs/thesis.yaml under DataRoot()
+// (basis/data_path.h), so installed and source-tree zbrdf alike take `--rig thesis`. Throws
+// InputError listing every problem found, or naming the bundled rigs if there is no such file.
+Rig LoadRig(const std::string& path_or_name);
 // Parses rig YAML text; `name_for_errors` stands for the file in messages.
 Rig ParseRig(const std::string& yaml_text, const std::string& name_for_errors);
 // The canonical YAML of a rig (all fields, fixed order), as stored in session.json and used

@@ -10,9 +10,11 @@ packages=(
   libopenexr-dev libtiff-dev nlohmann-json3-dev libyaml-cpp-dev
   libaravis-dev aravis-tools libusb-1.0-0-dev libx11-dev libxrandr-dev
   libgtest-dev libbenchmark-dev
+  pybind11-dev python3-dev python3-numpy
   umockdev xvfb x11-utils
   clang libclang-rt-14-dev
   slurmctld slurmd slurm-client munge
+  help2man
 )
 
 missing=()

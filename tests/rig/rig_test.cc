@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "basis/error.h"
@@ -38,6 +39,25 @@ TEST(RigTest, ShippedRigsLoadWithTheirStatedGeometry) {
   const Rig full = LoadRig(testing::SourceRig("full-dome.yaml"));
   EXPECT_EQ(full.dome.lower_edge_height_mm, 0);
   EXPECT_GT(thesis.dome.lower_edge_height_mm, 0);
+}
+
+// `--rig thesis` anywhere, an installed zbrdf included: a bare name is the bundled rig file.
+TEST(RigTest, ABareNameLoadsTheBundledRigAndAMistypedOneGetsTheClosest) {
+  const Rig by_name = LoadRig("thesis");
+  EXPECT_EQ(WriteRigYaml(by_name), ThesisText());
+  EXPECT_EQ(std::filesystem::path(by_name.source_path).filename(), "thesis.yaml");
+  std::string message;
+  try {
+    LoadRig("thesys");
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("rig 'thesys' is neither a file nor a bundled rig; did you mean "
+                         "'thesis'? Give the path of a rig YAML or the name of a bundled rig "
+                         "(full-dome, thesis, in "),
+            std::string::npos)
+      << message;
+  EXPECT_THROW(LoadRig("no/such/rig.yaml"), InputError);
 }
 
 TEST(RigTest, CanonicalYamlRoundTrips) {

@@ -5,10 +5,27 @@
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "basis/error.h"
+#include "basis/strings.h"
 
 namespace zbrdf::cli {
+namespace {
+
+// Set by DescribeCommand while a command's run function runs: Parse records its CommandLine here.
+thread_local std::optional<CommandLine>* described = nullptr;
+
+// "'a'", "'a' or 'b'", ... (quote: "'" or "" for flags written as --name).
+std::string OrList(const std::vector<std::string>& names, const std::string& quote) {
+  std::string out;
+  for (size_t k = 0; k < names.size(); ++k) {
+    out += (k == 0 ? "" : " or ") + quote + names[k] + quote;
+  }
+  return out;
+}
+
+}  // namespace
 
 CommandLine::CommandLine(std::string command, std::string summary)
     : command_(std::move(command)), summary_(std::move(summary)) {
@@ -40,6 +57,10 @@ CommandLine& CommandLine::Epilog(const std::string& text) {
 }
 
 bool CommandLine::Parse(const std::vector<std::string>& args) {
+  if (described != nullptr) {
+    described->emplace(*this);
+    return false;
+  }
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     if (arg.rfind("--", 0) == 0 && arg.size() > 2) {
@@ -54,8 +75,12 @@ bool CommandLine::Parse(const std::vector<std::string>& args) {
         if (s.name == name) spec = &s;
       }
       if (spec == nullptr) {
-        throw InputError("unknown flag --" + name + " (see zbrdf " +
-                         command_ + " --help)");
+        std::vector<std::string> declared;
+        for (const Spec& s : options_) declared.push_back("--" + s.name);
+        const std::vector<std::string> close = ClosestNames("--" + name, declared);
+        throw InputError("unknown flag --" + name +
+                         (close.empty() ? "" : "; did you mean " + OrList(close, "") + "?") +
+                         " (see zbrdf " + command_ + " --help)");
       }
       if (spec->is_flag) {
         if (inline_value) {
@@ -183,20 +208,20 @@ std::string CommandLine::Positional(size_t index) const {
 
 std::string CommandLine::Help() const {
   std::ostringstream out;
-  out << "usage: zbrdf " << command_;
+  out << "Usage: zbrdf " << command_;
   for (size_t i = 0; i < positionals_.size(); ++i) {
     out << (i < required_positionals_ ? " " : " [") << positionals_[i].first
         << (i < required_positionals_ ? "" : "]");
   }
   out << " [options]\n\n" << summary_ << "\n";
   if (!positionals_.empty()) {
-    out << "\narguments:\n";
+    out << "\nArguments:\n";
     for (const auto& [name, help] : positionals_) {
       out << "  " << name << std::string(name.size() < 24 ? 24 - name.size() : 1, ' ') << help
           << "\n";
     }
   }
-  out << "\noptions:\n";
+  out << "\nOptions:\n";
   for (const Spec& s : options_) {
     std::string left = "--" + s.name + (s.is_flag ? "" : " " + s.value_name);
     out << "  " << left << std::string(left.size() < 24 ? 24 - left.size() : 1, ' ') << s.help;
@@ -205,6 +230,12 @@ std::string CommandLine::Help() const {
   }
   if (!epilog_.empty()) out << "\n" << epilog_ << (epilog_.back() == '\n' ? "" : "\n");
   return out.str();
+}
+
+std::vector<std::pair<std::string, std::string>> CommandLine::Flags() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const Spec& s : options_) out.emplace_back("--" + s.name, s.help);
+  return out;
 }
 
 std::map<std::string, Command>& CommandTable() {
@@ -218,14 +249,53 @@ CommandRegistration::CommandRegistration(Command command) {
 
 namespace {
 
+CommandDescription DescribeRun(const Command& command, const std::vector<std::string>& args,
+                               const std::string& words, const std::string& summary) {
+  std::optional<CommandLine> cl;
+  described = &cl;
+  struct Reset {
+    ~Reset() { described = nullptr; }
+  } reset;
+  command.run(args);
+  if (!cl) {
+    throw std::logic_error("zbrdf " + words +
+                           " returned without parsing its arguments; a command must parse them "
+                           "with CommandLine::Parse before it acts (tools/cli/command.h)");
+  }
+  return {words, summary, cl->Flags()};
+}
+
+}  // namespace
+
+std::vector<CommandDescription> DescribeCommand(const Command& command) {
+  if (command.actions.empty()) {
+    return {DescribeRun(command, {}, command.name, command.summary)};
+  }
+  std::vector<CommandDescription> out = {
+      {command.name, command.summary, {{"--help", "print this help and exit"}}}};
+  for (const Action& action : command.actions) {
+    out.push_back(DescribeRun(command, {action.name}, command.name + " " + action.name,
+                              action.summary));
+  }
+  return out;
+}
+
+namespace {
+
 void PrintUsage() {
-  std::cout << "usage: zbrdf <command> [options]   (zbrdf <command> --help for each)\n\n"
+  std::cout << "Usage: zbrdf <command> [options]\n\n"
                "Measure, simulate, fit and export BRDFs captured with zonal basis "
-               "illumination.\n\ncommands:\n";
+               "illumination.\nzbrdf <command> --help explains each command.\n\nCommands:\n";
   for (const auto& [name, command] : CommandTable()) {
     std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ')
               << command.summary << "\n";
   }
+  std::cout << "\nOptions:\n"
+               "  -h, --help      print this help and exit\n"
+               "  -V, --version   print the version (as zbrdf version) and exit\n"
+               "\nzbrdf completion --help says how to set up completion in bash and zsh. "
+               "Installed with its\nmanual pages (README.md, Install), each command has one: "
+               "man zbrdf-<command>.\n";
 }
 
 }  // namespace
@@ -236,11 +306,21 @@ int RunZbrdf(int argc, char** argv) {
     PrintUsage();
     return argc < 2 ? 2 : 0;
   }
-  const std::string name = argv[1];
+  // --version and -V are the version command (GNU's convention; help2man asks for --version).
+  const std::string name =
+      std::string(argv[1]) == "--version" || std::string(argv[1]) == "-V" ? "version" : argv[1];
   auto& table = CommandTable();
   auto it = table.find(name);
   if (it == table.end()) {
-    std::cerr << "zbrdf: unknown command '" << name << "' (zbrdf --help lists them)\n";
+    std::vector<std::string> known = {"--help", "--version"};
+    if (name.rfind('-', 0) != 0) {
+      known.clear();
+      for (const auto& [command_name, command] : table) known.push_back(command_name);
+    }
+    const std::vector<std::string> close = ClosestNames(name, known);
+    std::cerr << "zbrdf: unknown " << (name.rfind('-', 0) == 0 ? "option" : "command") << " '"
+              << name << "'" << (close.empty() ? "" : "; did you mean " + OrList(close, "'") + "?")
+              << " (zbrdf --help lists them)\n";
     return 2;
   }
   std::vector<std::string> args(argv + 2, argv + argc);

@@ -127,7 +127,7 @@ int RunInfo(const std::vector<std::string>& args) {
 
 int RunPrior(const std::vector<std::string>& args) {
   const std::string usage =
-      "usage: zbrdf prior build|info [options]\n\n"
+      "Usage: zbrdf prior build|info [options]\n\n"
       "  build  build a prior from measured materials (zbrdf prior build --help)\n"
       "  info   list a prior's materials (zbrdf prior info --help)\n";
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
@@ -140,7 +140,11 @@ int RunPrior(const std::vector<std::string>& args) {
   throw InputError("zbrdf prior: unknown action '" + args[0] + "'; use build or info");
 }
 
-const CommandRegistration kReg({"prior", "build or inspect a measured-material prior (fit --model prior)", RunPrior});
+const CommandRegistration kReg({"prior",
+                                "build or inspect a measured-material prior (fit --model prior)",
+                                RunPrior,
+                                {{"build", "build a prior from measured materials"},
+                                 {"info", "list a prior's materials"}}});
 
 }  // namespace
 }  // namespace zbrdf::cli
