@@ -136,11 +136,16 @@ struct AccuracyItem {
   std::string material;
 };
 
-std::vector<AccuracyItem> AccuracyItems(const AccuracyOptions& options) {
+std::vector<std::string> AccuracyMaterials(const AccuracyOptions& options) {
   std::vector<std::string> materials;
   for (const std::string& m : options.materials) {
     for (const std::string& s : ExpandMaterialList(m)) materials.push_back(s);
   }
+  return materials;
+}
+
+std::vector<AccuracyItem> AccuracyItems(const AccuracyOptions& options) {
+  const std::vector<std::string> materials = AccuracyMaterials(options);
   std::vector<AccuracyItem> items;
   for (const std::string& rig : options.rigs) {
     for (int order : options.orders) {
@@ -175,16 +180,13 @@ BatchManifest AccuracyManifest(const AccuracyOptions& options) {
                       {"ball_size", options.ball_size},
                       {"ball_spp", options.ball_spp},
                       {"seed", options.seed}};
-  std::set<std::string> ids;
-  for (const AccuracyItem& it : AccuracyItems(options)) {
-    const std::string label = ConfigLabel(it.rig, it.order);
-    const std::string folder = MaterialFolderName(it.material);
-    const std::string id = label + "." + folder;
-    if (!ids.insert(id).second) {
-      throw InputError("--materials names '" + it.material + "' twice (or two specs that share the folder " +
-                       folder + "); list each material once");
+  // Items in AccuracyItems' order: rig, then order, then material.
+  const std::vector<std::string> materials = AccuracyMaterials(options);
+  for (const std::string& rig : options.rigs) {
+    for (int order : options.orders) {
+      const std::string label = ConfigLabel(rig, order);
+      AddMaterialItems(materials, label + ".", label + "/", &manifest);
     }
-    manifest.items.push_back({id, "items/" + label + "/" + folder + ".json"});
   }
   return manifest;
 }
@@ -337,11 +339,7 @@ AccuracySummary ReduceAccuracy(const std::string& out_dir) {
   const std::string items_dir = out_dir + "/items";
   if (fs::exists(out_dir + "/" + kManifestFile)) {
     // A batch: its items' results, for the manifest's options, in the order of their files.
-    const BatchManifest manifest = ReadManifest(out_dir);
-    if (manifest.command != "accuracy") {
-      throw InputError(out_dir + "/manifest.json is a `zbrdf " + manifest.command +
-                       "` batch, not accuracy; merge it with `zbrdf batch merge " + out_dir + "`");
-    }
+    const BatchManifest manifest = ReadManifest(out_dir, "accuracy");
     std::vector<BatchItem> items = manifest.items;
     std::sort(items.begin(), items.end(),
               [](const BatchItem& a, const BatchItem& b) { return a.result < b.result; });

@@ -157,6 +157,15 @@ BatchManifest ReadManifest(const std::string& dir) {
   return BatchManifest::FromJson(j, path);
 }
 
+BatchManifest ReadManifest(const std::string& dir, const std::string& command) {
+  BatchManifest manifest = ReadManifest(dir);
+  if (manifest.command != command) {
+    throw InputError(dir + "/manifest.json is a `zbrdf " + manifest.command + "` batch, not " +
+                     command + "; merge it with `zbrdf batch merge " + dir + "`");
+  }
+  return manifest;
+}
+
 nlohmann::json ReadItemResult(const std::string& dir, const BatchManifest& manifest,
                               const BatchItem& item) {
   nlohmann::json j = ReadJsonOrNull(dir + "/" + item.result);

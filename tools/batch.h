@@ -57,8 +57,9 @@ constexpr char kManifestFile[] = "manifest.json";
 void PrepareManifest(const std::string& dir, const BatchManifest& manifest, const Shard& shard);
 
 // Throws InputError when DIR has no readable manifest (names the file, says which commands make
-// one).
+// one), or, given `command`, when the manifest is another command's.
 BatchManifest ReadManifest(const std::string& dir);
+BatchManifest ReadManifest(const std::string& dir, const std::string& command);
 
 // The item's result (a JSON object), or null when it is missing, unreadable, or was computed for
 // other options than the manifest's (its "batch_options" differ: a rerun with other options

@@ -588,15 +588,7 @@ BatchManifest BenchManifest(const BenchOptions& options) {
                       {"fit", options.fit},
                       {"renderable", options.renderable},
                       {"ball_size", options.ball_size}};
-  std::set<std::string> folders;
-  for (const std::string& m : materials) {
-    const std::string folder = MaterialFolderName(m);
-    if (!folders.insert(folder).second) {
-      throw InputError("--materials names '" + m + "' twice (or two specs that share the folder " +
-                       folder + "); list each material once");
-    }
-    manifest.items.push_back({folder, "items/" + folder + ".json"});
-  }
+  AddMaterialItems(materials, "", "", &manifest);
   return manifest;
 }
 
@@ -647,11 +639,7 @@ nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted)
 }
 
 BenchSummary ReduceBench(const std::string& out_dir) {
-  const BatchManifest manifest = ReadManifest(out_dir);
-  if (manifest.command != "bench") {
-    throw InputError(out_dir + "/manifest.json is a `zbrdf " + manifest.command +
-                     "` batch, not bench; merge it with `zbrdf batch merge " + out_dir + "`");
-  }
+  const BatchManifest manifest = ReadManifest(out_dir, "bench");
   nlohmann::json floor = ReadJsonFile(out_dir + "/floor.json");
   if (!floor.is_object() || floor.value("batch_options", nlohmann::json()) != manifest.options) {
     floor = nullptr;

@@ -97,6 +97,19 @@ std::string MaterialFolderName(const std::string& spec) {
   return name.empty() ? "material" : name;
 }
 
+void AddMaterialItems(const std::vector<std::string>& specs, const std::string& id_prefix,
+                      const std::string& result_folder, BatchManifest* manifest) {
+  std::set<std::string> folders;
+  for (const std::string& spec : specs) {
+    const std::string folder = MaterialFolderName(spec);
+    if (!folders.insert(folder).second) {
+      throw InputError("--materials names '" + spec + "' twice (or two specs that share the folder " +
+                       folder + "); list each material once");
+    }
+    manifest->items.push_back({id_prefix + folder, "items/" + result_folder + folder + ".json"});
+  }
+}
+
 void FitAllOptions::Validate() const {
   OptionChecker check("FitAllOptions");
   check.Require(!materials.empty(), "materials", "must not be empty (--materials)")
@@ -192,24 +205,12 @@ BatchManifest FitAllManifest(const FitAllOptions& options) {
   std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(RigHash(rig)));
   manifest.options = {{"rig", rig.name},   {"rig_hash", hash},          {"preset", options.preset},
                       {"order", options.order}, {"seed", options.seed}, {"models", options.models}};
-  std::set<std::string> folders;
-  for (const std::string& spec : options.materials) {
-    const std::string folder = MaterialFolderName(spec);
-    if (!folders.insert(folder).second) {
-      throw InputError("--materials names '" + spec + "' twice (or two specs that share the folder " +
-                       folder + "); list each material once");
-    }
-    manifest.items.push_back({folder, "items/" + folder + ".json"});
-  }
+  AddMaterialItems(options.materials, "", "", &manifest);
   return manifest;
 }
 
 FitAllSummary ReduceFitAll(const std::string& out_dir) {
-  const BatchManifest manifest = ReadManifest(out_dir);
-  if (manifest.command != "fit-all") {
-    throw InputError(out_dir + "/manifest.json is a `zbrdf " + manifest.command +
-                     "` batch, not fit-all; merge it with `zbrdf batch merge " + out_dir + "`");
-  }
+  const BatchManifest manifest = ReadManifest(out_dir, "fit-all");
   std::vector<nlohmann::json> rows;
   FitAllSummary summary;
   for (const BatchItem& item : manifest.items) {

@@ -33,6 +33,12 @@ std::vector<std::string> ExpandMaterialList(const std::string& list);
 // A folder name for a material spec: "merl:blue-acrylic" -> "merl-blue-acrylic".
 std::string MaterialFolderName(const std::string& spec);
 
+// Appends one batch item per material spec, in order: id id_prefix + its folder name, result
+// "items/" + result_folder + folder + ".json". Throws InputError naming a spec listed twice (or
+// two specs that share a folder name).
+void AddMaterialItems(const std::vector<std::string>& specs, const std::string& id_prefix,
+                      const std::string& result_folder, BatchManifest* manifest);
+
 struct FitAllOptions {
   std::string rig_path;
   std::string preset = "fast";

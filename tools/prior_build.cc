@@ -155,11 +155,7 @@ int RunPriorBuildShard(const PriorBuildOptions& options) {
 }
 
 BrdfPrior ReducePriorBuild(const std::string& batch_dir) {
-  const BatchManifest manifest = ReadManifest(batch_dir);
-  if (manifest.command != "prior") {
-    throw InputError(batch_dir + "/manifest.json is a `zbrdf " + manifest.command +
-                     "` batch, not a prior build");
-  }
+  const BatchManifest manifest = ReadManifest(batch_dir, "prior");
   const std::string grid_text = manifest.options.value("grid", std::string());
   int nh = 0, nd = 0, np = 0;
   if (std::sscanf(grid_text.c_str(), "%d x %d x %d", &nh, &nd, &np) != 3) {
