@@ -16,14 +16,21 @@ namespace {
 // executable has no such folder beside it (a build tree, a test binary). Linux: /proc/self/exe
 // names the executable itself, whatever the current folder and argv[0] are.
 std::string InstalledDataRoot() {
+  const std::string exe = ExecutablePath();
+  if (exe.empty()) return "";
   std::error_code error;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) return "";
-  const std::filesystem::path root = exe.parent_path().parent_path() / "share" / "zbrdf";
+  const std::filesystem::path root =
+      std::filesystem::path(exe).parent_path().parent_path() / "share" / "zbrdf";
   return std::filesystem::is_directory(root / "data", error) ? root.string() : "";
 }
 
 }  // namespace
+
+std::string ExecutablePath() {
+  std::error_code error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  return error ? std::string() : exe.string();
+}
 
 std::string DataRoot() {
   if (const char* env = std::getenv("ZBRDF_DATA_DIR"); env != nullptr && *env != '\0') {

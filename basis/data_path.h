@@ -17,4 +17,8 @@ std::string DataRoot();
 // DataRoot() + "/" + relative.
 std::string DataPath(const std::string& relative);
 
+// The running executable's absolute path (Linux: /proc/self/exe, whatever the current folder
+// and argv[0] are), or "" if it cannot be read.
+std::string ExecutablePath();
+
 }  // namespace zbrdf

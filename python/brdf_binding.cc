@@ -15,6 +15,7 @@
 #include "basis/vec3.h"
 #include "brdf/brdf.h"
 #include "python/bindings.h"
+#include "tools/brdf_eval.h"
 #include "tools/brdf_input.h"
 
 namespace zbrdf::python {
@@ -22,8 +23,7 @@ namespace {
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// Pairs per task of the parallel loops: the chunking of tools/brdf_eval.cc's EvaluatePairs, so
-// that a batch goes through Brdf::EvalBatch in the same blocks as `zbrdf eval`.
+// Rows per task of the parallel sample and pdf loops.
 constexpr int64_t kPairsPerTask = 4096;
 
 // Directions further than this from unit length are refused: 1e-6 admits vectors that went
@@ -125,8 +125,8 @@ std::vector<py::ssize_t> ResultShape(int64_t count, bool single, py::ssize_t col
   return shape;
 }
 
-// f_r for every row, as tools/brdf_eval.cc's EvaluatePairs computes it: Brdf::EvalBatch over
-// chunks of kPairsPerTask pairs on all cores, 0 where either direction is below the horizon.
+// f_r for every row: tools/brdf_eval.h's EvaluateDirections, what `zbrdf eval` computes (the
+// same EvalBatch blocks), 0 where either direction is below the horizon.
 py::array_t<double> Eval(const BrdfInput& input, const py::handle& w_i_value,
                          const py::handle& w_o_value) {
   const Rows w_i = ToDirections(w_i_value, "w_i");
@@ -137,28 +137,18 @@ py::array_t<double> Eval(const BrdfInput& input, const py::handle& w_i_value,
   const Brdf& brdf = *input.brdf;
   {
     py::gil_scoped_release release;
-    ParallelFor((n + kPairsPerTask - 1) / kPairsPerTask, 1, [&](int64_t begin, int64_t end) {
-      std::vector<Vec3> a, b;
-      std::vector<Rgb> rgb;
-      for (int64_t task = begin; task < end; ++task) {
-        const int64_t first = task * kPairsPerTask, last = std::min(n, first + kPairsPerTask);
-        a.resize(last - first);
-        b.resize(last - first);
-        rgb.assign(last - first, Rgb());
-        for (int64_t k = first; k < last; ++k) {
-          a[k - first] = AsVec3(w_i.Row(k));
-          b[k - first] = AsVec3(w_o.Row(k));
-        }
-        brdf.EvalBatch(a, b, rgb);
-        for (int64_t k = first; k < last; ++k) {
-          const bool below = a[k - first].z <= 0 || b[k - first].z <= 0;
-          const Rgb& v = rgb[k - first];
-          out[3 * k + 0] = below ? 0.0 : v.r;
-          out[3 * k + 1] = below ? 0.0 : v.g;
-          out[3 * k + 2] = below ? 0.0 : v.b;
-        }
-      }
-    });
+    std::vector<Vec3> a(n), b(n);
+    for (int64_t k = 0; k < n; ++k) {
+      a[k] = AsVec3(w_i.Row(k));
+      b[k] = AsVec3(w_o.Row(k));
+    }
+    std::vector<Rgb> rgb(n);
+    EvaluateDirections(brdf, a, b, rgb);
+    for (int64_t k = 0; k < n; ++k) {
+      out[3 * k + 0] = rgb[k].r;
+      out[3 * k + 1] = rgb[k].g;
+      out[3 * k + 2] = rgb[k].b;
+    }
   }
   return f;
 }

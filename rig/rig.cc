@@ -630,6 +630,12 @@ Preset ParsePreset(const std::string& name) {
   throw InputError("unknown preset '" + name + "'; use fast or full");
 }
 
+std::string RigHashHex(const Rig& rig) {
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(RigHash(rig)));
+  return hex;
+}
+
 Rig ApplyPreset(const Rig& rig, Preset preset) {
   if (preset == Preset::kFull) return rig;
   Rig out = rig;

@@ -135,6 +135,8 @@ Rig ApplyRigOverlayText(const Rig& rig, const std::string& yaml_text,
 Rig ApplyRigOverlay(const Rig& rig, const std::string& overlay_path);
 // 64-bit FNV-1a hash of the canonical YAML: identifies the rig's geometry for caches.
 uint64_t RigHash(const Rig& rig);
+// RigHash as 16 lowercase hex digits (batch manifests record it).
+std::string RigHashHex(const Rig& rig);
 
 enum class Preset { kFast, kFull };
 // "fast" or "full"; throws InputError otherwise.

@@ -25,19 +25,13 @@
 #include "rig/rig.h"
 #include "tools/fit_all.h"
 #include "tools/fit_session.h"
+#include "tools/json_file.h"
 #include "tools/virtual_capture.h"
 
 namespace zbrdf {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json ReadJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return nullptr;
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  return j.is_discarded() ? nlohmann::json(nullptr) : j;
-}
 
 nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -164,11 +158,8 @@ BatchManifest AccuracyManifest(const AccuracyOptions& options) {
   manifest.args = options.command_args;
   nlohmann::json rigs = nlohmann::json::array();
   for (const std::string& rig : options.rigs) {
-    char hash[20];
-    std::snprintf(hash, sizeof(hash), "%016llx",
-                  static_cast<unsigned long long>(RigHash(ApplyPreset(LoadRig(RigPath(rig)),
-                                                                      ParsePreset(options.preset)))));
-    rigs.push_back({{"rig", RigLabel(rig)}, {"hash", hash}});
+    rigs.push_back({{"rig", RigLabel(rig)},
+                    {"hash", RigHashHex(ApplyPreset(LoadRig(RigPath(rig)), ParsePreset(options.preset)))}});
   }
   manifest.options = {{"rigs", rigs},
                       {"orders", options.orders},
@@ -199,10 +190,7 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
   const BrdfPrior prior = ReadPriorFile(prior_path);
   const auto ngan = NganBaseline();
   PrepareManifest(options.out_dir, manifest, options.shard);
-  std::vector<size_t> owned;
-  for (size_t k = 0; k < all_items.size(); ++k) {
-    if (options.shard.Owns(k)) owned.push_back(k);
-  }
+  const std::vector<size_t> owned = options.shard.ItemsOf(all_items.size());
   std::map<std::string, Rig> rigs;
   for (const std::string& rig : options.rigs) {
     rigs.emplace(rig, ApplyPreset(LoadRig(RigPath(rig)), ParsePreset(options.preset)));
@@ -255,7 +243,7 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
         const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
         if (!outcome.result.complete) return false;  // interrupted: resumable
       }
-      const nlohmann::json session_report = ReadJson(SessionPath(dir, kReportFile));
+      const nlohmann::json session_report = ReadJsonOrNull(SessionPath(dir, kReportFile));
       if (session_report.is_object()) {
         row["rig_time_s"] = session_report.value("capture_time_model_s", nlohmann::json(nullptr));
       }
@@ -292,7 +280,7 @@ AccuracySummary RunAccuracy(const AccuracyOptions& options) {
       row["selection_time_s"] = choice.value("selection_time_s", nlohmann::json(nullptr));
       // The prior's fit report also says what it left out (leave-one-out check).
       const nlohmann::json prior_report =
-          ReadJson(SessionPath(dir, FitReportFileName("prior")));
+          ReadJsonOrNull(SessionPath(dir, FitReportFileName("prior")));
       if (prior_report.is_object() && prior_report.contains("params")) {
         row["prior_excluded"] = prior_report["params"].value("excluded", nlohmann::json::array());
         row["prior_fit_time_s"] = prior_report["fit_time_s"];
@@ -356,7 +344,7 @@ AccuracySummary ReduceAccuracy(const std::string& out_dir) {
     }
     std::sort(files.begin(), files.end());
     for (const std::string& f : files) {
-      nlohmann::json j = ReadJson(f);
+      nlohmann::json j = ReadJsonOrNull(f);
       if (j.is_object()) rows.push_back(std::move(j));
     }
   }

@@ -8,24 +8,17 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "tools/json_file.h"
 
 namespace zbrdf {
 namespace fs = std::filesystem;
 namespace {
 
 constexpr char kManifestFormat[] = "zbrdf batch manifest 1";
-
-nlohmann::json ReadJsonOrNull(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return nullptr;
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  return j.is_discarded() ? nlohmann::json(nullptr) : j;
-}
 
 std::string HostName() {
   char name[256] = {};
@@ -43,6 +36,14 @@ bool ProcessAlive(long pid) {
 }
 
 }  // namespace
+
+std::vector<size_t> Shard::ItemsOf(size_t item_count) const {
+  std::vector<size_t> items;
+  for (size_t k = 0; k < item_count; ++k) {
+    if (Owns(k)) items.push_back(k);
+  }
+  return items;
+}
 
 std::string Shard::ToString() const { return std::to_string(index) + "/" + std::to_string(count); }
 

@@ -25,6 +25,8 @@ namespace zbrdf {
 struct Shard {
   int index = 0, count = 1;
   bool Owns(size_t item_index) const { return static_cast<int>(item_index % count) == index; }
+  // The indices this shard owns among item_count items, ascending.
+  std::vector<size_t> ItemsOf(size_t item_count) const;
   bool IsWhole() const { return count == 1; }
   std::string ToString() const;
   // Throws InputError naming the text and the expected form.

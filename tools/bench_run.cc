@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
@@ -30,6 +29,7 @@
 #include "simulate/virtual_rig.h"
 #include "tools/fit_all.h"
 #include "tools/fit_session.h"
+#include "tools/json_file.h"
 #include "tools/sh_conversion.h"
 
 namespace zbrdf {
@@ -556,13 +556,6 @@ void WriteBenchOutputs(const std::string& out_dir, const nlohmann::json& table, 
   }
 }
 
-nlohmann::json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return nullptr;
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  return j.is_discarded() ? nlohmann::json(nullptr) : j;
-}
-
 }  // namespace
 
 BatchManifest BenchManifest(const BenchOptions& options) {
@@ -572,10 +565,8 @@ BatchManifest BenchManifest(const BenchOptions& options) {
   BatchManifest manifest;
   manifest.command = "bench";
   manifest.args = options.command_args;
-  char hash[20];
-  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(RigHash(rig)));
   manifest.options = {{"rig", rig.name},
-                      {"rig_hash", hash},
+                      {"rig_hash", RigHashHex(rig)},
                       {"preset", options.preset},
                       {"seed", options.seed},
                       {"materials", materials},
@@ -597,7 +588,7 @@ nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted)
   if (!options.measure_floor || !options.adaptive) return nullptr;
   const BatchManifest manifest = BenchManifest(options);
   const std::string floor_path = options.out_dir + "/floor.json";
-  const nlohmann::json stored = ReadJsonFile(floor_path);
+  const nlohmann::json stored = ReadJsonOrNull(floor_path);
   if (stored.is_object() && stored.value("batch_options", nlohmann::json()) == manifest.options &&
       stored.contains("floor_profile")) {
     return stored;
@@ -640,7 +631,7 @@ nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted)
 
 BenchSummary ReduceBench(const std::string& out_dir) {
   const BatchManifest manifest = ReadManifest(out_dir, "bench");
-  nlohmann::json floor = ReadJsonFile(out_dir + "/floor.json");
+  nlohmann::json floor = ReadJsonOrNull(out_dir + "/floor.json");
   if (!floor.is_object() || floor.value("batch_options", nlohmann::json()) != manifest.options) {
     floor = nullptr;
   } else {
@@ -673,10 +664,7 @@ BenchSummary RunBench(const BenchOptions& options) {
   const BatchManifest manifest = BenchManifest(options);
   PrepareManifest(options.out_dir, manifest, options.shard);
   const int max_order = *std::max_element(options.orders.begin(), options.orders.end());
-  std::vector<size_t> owned;
-  for (size_t k = 0; k < materials.size(); ++k) {
-    if (options.shard.Owns(k)) owned.push_back(k);
-  }
+  const std::vector<size_t> owned = options.shard.ItemsOf(materials.size());
   const long total =
       static_cast<long>(owned.size() * strategies.size()) + (options.measure_floor ? 1 : 0);
   std::atomic<long> done{0};

@@ -127,26 +127,34 @@ std::vector<DirectionPair> ParseDirectionPairs(std::string_view text, const std:
   return pairs;
 }
 
-std::vector<Rgb> EvaluatePairs(const Brdf& brdf, std::span<const DirectionPair> pairs) {
-  std::vector<Rgb> f(pairs.size());
-  const int64_t n = static_cast<int64_t>(pairs.size());
+void EvaluateDirections(const Brdf& brdf, std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                        std::span<Rgb> f) {
+  ZBRDF_ASSERT(w_i.size() == w_o.size() && w_i.size() == f.size(),
+               "EvaluateDirections: w_i, w_o and f differ in size");
+  const int64_t n = static_cast<int64_t>(f.size());
   ParallelFor((n + kPairsPerTask - 1) / kPairsPerTask, 1, [&](int64_t begin, int64_t end) {
-    std::vector<Vec3> w_i, w_o;
     for (int64_t task = begin; task < end; ++task) {
       const int64_t first = task * kPairsPerTask, last = std::min(n, first + kPairsPerTask);
-      w_i.resize(last - first);
-      w_o.resize(last - first);
+      const size_t count = static_cast<size_t>(last - first);
+      brdf.EvalBatch(w_i.subspan(first, count), w_o.subspan(first, count), f.subspan(first, count));
       for (int64_t k = first; k < last; ++k) {
-        w_i[k - first] = SphericalDirection(pairs[k].theta_i, pairs[k].phi_i);
-        w_o[k - first] = SphericalDirection(pairs[k].theta_o, pairs[k].phi_o);
-      }
-      const std::span<Rgb> out(f.data() + first, last - first);
-      brdf.EvalBatch(w_i, w_o, out);
-      for (int64_t k = first; k < last; ++k) {
-        if (w_i[k - first].z <= 0 || w_o[k - first].z <= 0) f[k] = Rgb();
+        if (w_i[k].z <= 0 || w_o[k].z <= 0) f[k] = Rgb();
       }
     }
   });
+}
+
+std::vector<Rgb> EvaluatePairs(const Brdf& brdf, std::span<const DirectionPair> pairs) {
+  const int64_t n = static_cast<int64_t>(pairs.size());
+  std::vector<Vec3> w_i(pairs.size()), w_o(pairs.size());
+  ParallelFor(n, kPairsPerTask, [&](int64_t begin, int64_t end) {
+    for (int64_t k = begin; k < end; ++k) {
+      w_i[k] = SphericalDirection(pairs[k].theta_i, pairs[k].phi_i);
+      w_o[k] = SphericalDirection(pairs[k].theta_o, pairs[k].phi_o);
+    }
+  });
+  std::vector<Rgb> f(pairs.size());
+  EvaluateDirections(brdf, w_i, w_o, f);
   return f;
 }
 

@@ -28,6 +28,12 @@ std::vector<DirectionPair> ParseDirectionPairs(std::string_view text, const std:
 // f_r for every pair (in parallel, through Brdf::EvalBatch); 0 below the horizon.
 std::vector<Rgb> EvaluatePairs(const Brdf& brdf, std::span<const DirectionPair> pairs);
 
+// The same for pairs of unit vectors: f[k] = f_r(w_i[k], w_o[k]), through Brdf::EvalBatch in
+// blocks of 4096 pairs on all cores; 0 where either direction is below the horizon. The three
+// spans have one size. EvaluatePairs and the Python module's eval both come here.
+void EvaluateDirections(const Brdf& brdf, std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                        std::span<Rgb> f);
+
 enum class EvalFormat { kCsv, kJson };
 
 // CSV: a header line "theta_i,phi_i,theta_o,phi_o,r,g,b" and one line per pair. JSON: an object

@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
@@ -20,6 +19,7 @@
 #include "brdf/nbrdf.h"
 #include "rig/rig.h"
 #include "tools/fit_session.h"
+#include "tools/json_file.h"
 #include "tools/virtual_capture.h"
 
 namespace zbrdf {
@@ -35,13 +35,6 @@ double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-nlohmann::json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return nullptr;
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  return j.is_discarded() ? nlohmann::json(nullptr) : j;
 }
 
 // The camera's longest exposure from a "ExposureTime X us is outside [MIN, MAX] us" message, or
@@ -201,9 +194,7 @@ BatchManifest FitAllManifest(const FitAllOptions& options) {
   BatchManifest manifest;
   manifest.command = "fit-all";
   manifest.args = options.command_args;
-  char hash[20];
-  std::snprintf(hash, sizeof(hash), "%016llx", static_cast<unsigned long long>(RigHash(rig)));
-  manifest.options = {{"rig", rig.name},   {"rig_hash", hash},          {"preset", options.preset},
+  manifest.options = {{"rig", rig.name},   {"rig_hash", RigHashHex(rig)},          {"preset", options.preset},
                       {"order", options.order}, {"seed", options.seed}, {"models", options.models}};
   AddMaterialItems(options.materials, "", "", &manifest);
   return manifest;
@@ -231,10 +222,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
   const BatchManifest manifest = FitAllManifest(options);
   PrepareManifest(options.out_dir, manifest, options.shard);
   FitContext context;
-  std::vector<int> owned;
-  for (size_t k = 0; k < manifest.items.size(); ++k) {
-    if (options.shard.Owns(k)) owned.push_back(static_cast<int>(k));
-  }
+  const std::vector<size_t> owned = options.shard.ItemsOf(manifest.items.size());
   const int total = static_cast<int>(owned.size());
   std::mutex mutex;
   FitAllSummary summary;
@@ -308,7 +296,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
       }
       for (const std::string& model : options.models) {
         const std::string report_path = SessionPath(dir, FitReportFileName(model));
-        nlohmann::json report = options.refit ? nlohmann::json(nullptr) : ReadJsonFile(report_path);
+        nlohmann::json report = options.refit ? nlohmann::json(nullptr) : ReadJsonOrNull(report_path);
         if (report.is_null() || !report.contains("error_cosine_l2")) {
           FitSessionOptions fit;
           fit.model = model;
@@ -351,7 +339,7 @@ FitAllSummary RunFitAll(const FitAllOptions& options) {
   };
   // Materials in flight at once: each stage is itself mostly single-threaded.
   ParallelForEach(total, std::clamp(options.parallel_materials, 1, 16),
-                  [&](int64_t i) { return fit_material(owned[i]); });
+                  [&](int64_t i) { return fit_material(static_cast<int>(owned[i])); });
   if (table_error) std::rethrow_exception(table_error);
   summary.interrupted = finished.load() < total;
   write_table();

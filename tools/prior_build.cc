@@ -120,10 +120,7 @@ int RunPriorBuildShard(const PriorBuildOptions& options) {
   const std::string dir = options.BatchDir();
   PrepareManifest(dir, manifest, options.shard);
   const nlohmann::json& sources = manifest.options["sources"];
-  std::vector<size_t> owned;
-  for (size_t k = 0; k < manifest.items.size(); ++k) {
-    if (options.shard.Owns(k)) owned.push_back(k);
-  }
+  const std::vector<size_t> owned = options.shard.ItemsOf(manifest.items.size());
   int tabulated = 0;
   Report(options.progress, {"prior", 0, static_cast<long>(owned.size()), "materials"});
   for (size_t i = 0; i < owned.size(); ++i) {

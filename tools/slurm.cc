@@ -10,14 +10,15 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
 #include "basis/atomic_file.h"
+#include "basis/data_path.h"
 #include "basis/error.h"
+#include "tools/json_file.h"
 
 extern char** environ;
 
@@ -103,12 +104,6 @@ std::string SubmitScript(const std::vector<std::string>& sbatch_args) {
     throw DeviceError("sbatch did not print a job id (got '" + Trim(r.output) + "')");
   }
   return out;
-}
-
-std::string ThisExecutable() {
-  std::error_code error;
-  const fs::path self = fs::read_symlink("/proc/self/exe", error);
-  return error ? std::string("zbrdf") : self.string();
 }
 
 std::string ArrayList(const std::vector<int>& shards) {
@@ -222,7 +217,9 @@ SlurmSubmission SubmitSlurmBatch(const std::string& dir, const BatchManifest& ma
   sub.time_limit_minutes = site.time_limit_minutes > 0
                                ? site.time_limit_minutes
                                : SlurmTimeLimitMinutes(item_seconds, items_per_shard);
-  const std::string zbrdf = site.zbrdf.empty() ? ThisExecutable() : site.zbrdf;
+  // Default: this binary (or, where that cannot be read, the zbrdf on the jobs' PATH).
+  const std::string self = ExecutablePath();
+  const std::string zbrdf = !site.zbrdf.empty() ? site.zbrdf : self.empty() ? "zbrdf" : self;
   const std::string cwd = fs::current_path().string();
 
   auto header = [&](const std::string& name, const std::string& output, int cpus,
@@ -274,9 +271,7 @@ SlurmSubmission SubmitSlurmBatch(const std::string& dir, const BatchManifest& ma
 }
 
 std::vector<nlohmann::json> SlurmSubmissions(const std::string& dir) {
-  std::ifstream in(dir + "/slurm/submissions.json");
-  if (!in) return {};
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json j = ReadJsonOrNull(dir + "/slurm/submissions.json");
   if (!j.is_array()) return {};
   return j.get<std::vector<nlohmann::json>>();
 }
