@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "pictures/image.h"
 
@@ -15,7 +17,47 @@ void Label(cv::Mat& image, const std::string& text) {
               cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
 }
 
+// Means over the pixels both images see and their channels.
+double MeanSquaredDifference(const BallImage& x, const BallImage& y) {
+  const double rmse = BallRmse(x, y);
+  return rmse * rmse;
+}
+
+double MeanProduct(const BallImage& x, const BallImage& y) {
+  double sum = 0;
+  int64_t count = 0;
+  for (size_t i = 0; i < x.image.pixels.size(); ++i) {
+    if (!x.coverage[i] || !y.coverage[i]) continue;
+    for (int c = 0; c < 3; ++c) sum += x.image.pixels[i][c] * y.image.pixels[i][c];
+    count += 3;
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
 }  // namespace
+
+ImageError NoiseCorrectedImageError(const Brdf& a, const Brdf& b, const Environment* env,
+                                    const BallOptions& options, const BallImage* a1,
+                                    const BallImage* b1) {
+  std::optional<BallImage> own_a1, own_b1;
+  if (a1 == nullptr) a1 = &own_a1.emplace(RenderBall(a, env, options));
+  if (b1 == nullptr) b1 = &own_b1.emplace(RenderBall(b, env, options));
+  // Far from options.seed in PixelRng's sequence, so that the pixel streams do not overlap.
+  BallOptions second = options;
+  second.seed = options.seed + 0x9E3779B97F4A7C15ull;
+  const BallImage a2 = RenderBall(a, env, second), b2 = RenderBall(b, env, second);
+  const double cross = 0.5 * (MeanSquaredDifference(*a1, b2) + MeanSquaredDifference(a2, *b1));
+  const double variances = 0.5 * (MeanSquaredDifference(*a1, a2) + MeanSquaredDifference(*b1, b2));
+  const double a_square = MeanProduct(*a1, a2);
+  ImageError e;
+  if (!(a_square > 0)) {
+    e.relative_rmse = e.relative_noise = std::numeric_limits<double>::quiet_NaN();
+    return e;
+  }
+  e.relative_rmse = std::sqrt(std::max(0.0, cross - variances) / a_square);
+  e.relative_noise = std::sqrt(variances / a_square);
+  return e;
+}
 
 nlohmann::json MaterialComparison::ToJson() const {
   return {{"render", {{"rmse", rmse}, {"relative_rmse", relative_rmse}}},

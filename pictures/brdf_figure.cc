@@ -23,8 +23,7 @@ double SrgbEncode(double linear) {
 
 }  // namespace
 
-FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigurePanel>& panels,
-                              int size) {
+cv::Mat DrawSphereFigure(const std::vector<FigurePanel>& panels, int size, FigureStats* stats_out) {
   if (panels.empty() || size < 16) throw InputError("figure: no panels or a size below 16 pixels");
   const Vec3 view{0, 0, 1};
   const double light_angle = 40.0 * M_PI / 180.0;
@@ -94,6 +93,14 @@ FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigureP
     cv::putText(image, text, cv::Point(static_cast<int>(p) * size + 6, size + 34),
                 cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(255, 0, 255), 1, cv::LINE_AA);
   }
+  if (stats_out != nullptr) *stats_out = stats;
+  return image;
+}
+
+FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigurePanel>& panels,
+                              int size) {
+  FigureStats stats;
+  const cv::Mat image = DrawSphereFigure(panels, size, &stats);
   std::vector<uchar> bytes;
   bool ok = false;
   try {

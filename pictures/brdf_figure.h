@@ -9,6 +9,7 @@
 // under each panel gives its label and the fraction of negative pixels.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -25,8 +26,12 @@ struct FigureStats {
   std::vector<double> negative_pixel_fraction;  // per panel, of the pixels on the sphere
 };
 
-// Writes a PNG of the panels side by side (size x size pixels each, plus a caption strip).
-// Throws InputError if the file cannot be written.
+// The panels side by side (size x size pixels each, plus a caption strip), 8-bit BGR. Throws
+// InputError if there are no panels or size < 16.
+cv::Mat DrawSphereFigure(const std::vector<FigurePanel>& panels, int size = 256,
+                         FigureStats* stats = nullptr);
+
+// Writes DrawSphereFigure's image as a PNG. Throws InputError if the file cannot be written.
 FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigurePanel>& panels,
                               int size = 256);
 

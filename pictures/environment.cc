@@ -21,22 +21,51 @@ Rgb SkyGradient(const Vec3& d) {
 
 }  // namespace
 
-Environment::Environment(RgbImage latlong, double rotation_rad)
-    : image_(std::move(latlong)), rotation_rad_(rotation_rad) {
-  if (image_.width < 1 || image_.height < 1) throw InputError("environment map is empty");
-  std::vector<double> weights(image_.pixels.size());
+Environment::Environment(RgbImage latlong, double rotation_rad) : rotation_rad_(rotation_rad) {
+  if (latlong.width < 1 || latlong.height < 1) throw InputError("environment map is empty");
+  auto data = std::make_shared<Data>();
+  data->image = std::move(latlong);
+  const RgbImage& image = data->image;
+  std::vector<double> weights(image.pixels.size());
   double total = 0;
-  for (int y = 0; y < image_.height; ++y) {
-    const double sin_theta = std::sin(M_PI * (y + 0.5) / image_.height);
-    for (int x = 0; x < image_.width; ++x) {
-      const double w = image_.At(x, y).Max() * sin_theta;
-      weights[static_cast<size_t>(y) * image_.width + x] = w;
+  for (int y = 0; y < image.height; ++y) {
+    const double sin_theta = std::sin(M_PI * (y + 0.5) / image.height);
+    for (int x = 0; x < image.width; ++x) {
+      const double w = image.At(x, y).Max() * sin_theta;
+      weights[static_cast<size_t>(y) * image.width + x] = w;
       total += w;
     }
   }
-  if (total > 0) {
-    distribution_ = std::make_unique<Distribution2D>(weights, image_.width, image_.height);
+  // Each pixel of row y spans (2 pi / width) (cos theta_y - cos theta_(y+1)) sr; the sphere 4 pi.
+  double mean = 0;
+  for (int y = 0; y < image.height; ++y) {
+    const double solid_angle = 2.0 * M_PI / image.width *
+                               (std::cos(M_PI * y / image.height) -
+                                std::cos(M_PI * (y + 1) / image.height));
+    for (int x = 0; x < image.width; ++x) mean += image.At(x, y).Max() * solid_angle;
   }
+  data->mean_max_radiance = mean / (4.0 * M_PI);
+  if (total > 0) {
+    data->distribution = std::make_unique<Distribution2D>(weights, image.width, image.height);
+  }
+  data_ = std::move(data);
+}
+
+Environment Environment::FromFile(const std::string& path, double rotation_rad,
+                                  int* negative_pixels) {
+  return Environment(ReadEnvironmentImage(path, negative_pixels), rotation_rad);
+}
+
+Environment Environment::Rotated(double rotation_rad) const {
+  Environment copy = *this;
+  copy.rotation_rad_ += rotation_rad;
+  if (Dot(sun_, sun_) > 0) {
+    // The sun turns with the map: Direction() has (x, z) = sin(theta) (sin phi, -cos phi), and a
+    // rotation r adds r to phi.
+    const double c = std::cos(rotation_rad), s = std::sin(rotation_rad);
+    copy.sun_ = {sun_.x * c - sun_.z * s, sun_.y, sun_.z * c + sun_.x * s};
+  }
+  return copy;
 }
 
 Environment Environment::Constant(const Rgb& radiance) {
@@ -150,29 +179,30 @@ Vec3 Environment::Direction(double u, double v) const {
 Rgb Environment::Radiance(const Vec3& d) const {
   double u, v;
   MapCoordinates(d, &u, &v);
-  const int x = std::min(static_cast<int>(u * image_.width), image_.width - 1);
-  const int y = std::min(static_cast<int>(v * image_.height), image_.height - 1);
-  return image_.At(x, y);
+  const RgbImage& image = data_->image;
+  const int x = std::min(static_cast<int>(u * image.width), image.width - 1);
+  const int y = std::min(static_cast<int>(v * image.height), image.height - 1);
+  return image.At(x, y);
 }
 
 Vec3 Environment::Sample(double u0, double u1, double* pdf) const {
-  if (!distribution_) {
+  if (!data_->distribution) {
     *pdf = 0;
     return {0, 1, 0};
   }
   double pdf_uv = 0;
-  const auto [u, v] = distribution_->Sample(u0, u1, &pdf_uv);
+  const auto [u, v] = data_->distribution->Sample(u0, u1, &pdf_uv);
   const double sin_theta = std::sin(M_PI * v);
   *pdf = sin_theta > 0 ? pdf_uv / (2.0 * M_PI * M_PI * sin_theta) : 0.0;
   return Direction(u, v);
 }
 
 double Environment::Pdf(const Vec3& d) const {
-  if (!distribution_) return 0;
+  if (!data_->distribution) return 0;
   double u, v;
   MapCoordinates(d, &u, &v);
   const double sin_theta = std::sin(M_PI * v);
-  return sin_theta > 0 ? distribution_->Pdf(u, v) / (2.0 * M_PI * M_PI * sin_theta) : 0.0;
+  return sin_theta > 0 ? data_->distribution->Pdf(u, v) / (2.0 * M_PI * M_PI * sin_theta) : 0.0;
 }
 
 }  // namespace zbrdf

@@ -12,6 +12,8 @@
 // elevation, upper left and in front of the ball, delivering an irradiance of 2.5 pi on a
 // surface facing it (a white Lambertian surface facing the sun renders at 2.5 from the sun
 // alone), rasterized at 1024 x 512 with 4 x 4 supersampling.
+//
+// Copies are cheap (the image and its tables are shared, immutable).
 #pragma once
 
 #include <memory>
@@ -35,6 +37,16 @@ class Environment {
   // (the image error of docs/accuracy.md; relighting benchmarks).
   static Environment Studio();
   static Environment Constant(const Rgb& radiance);
+  // An equirectangular map from an OpenEXR (.exr) or Radiance RGBE (.hdr) file (ReadHdrImage in
+  // pictures/image.h). Negative pixels are set to 0 and counted in *negative_pixels.
+  // Throws InputError naming the file if it cannot be read or its type is not one of these.
+  static Environment FromFile(const std::string& path, double rotation_rad = 0.0,
+                              int* negative_pixels = nullptr);
+
+  // The same map turned by rotation_rad about +y in addition to this one's rotation. Shares the
+  // image and its sampling tables (no copy): a turntable's frames cost nothing to make.
+  Environment Rotated(double rotation_rad) const;
+  double rotation_rad() const { return rotation_rad_; }
 
   // Radiance arriving from direction d (unit, world frame; d points away from the ball).
   Rgb Radiance(const Vec3& d) const;
@@ -43,7 +55,10 @@ class Environment {
   Vec3 Sample(double u0, double u1, double* pdf) const;
   double Pdf(const Vec3& d) const;
 
-  const RgbImage& image() const { return image_; }
+  const RgbImage& image() const { return data_->image; }
+  // The mean over the sphere of the largest channel's radiance, each pixel weighted by its exact
+  // solid angle.
+  double mean_max_radiance() const { return data_->mean_max_radiance; }
   // The sun's direction for Sky() (world frame), else zero.
   const Vec3& sun_direction() const { return sun_; }
 
@@ -51,9 +66,13 @@ class Environment {
   void MapCoordinates(const Vec3& d, double* u, double* v) const;
   Vec3 Direction(double u, double v) const;
 
-  RgbImage image_;
+  struct Data {
+    RgbImage image;
+    std::unique_ptr<Distribution2D> distribution;  // null for an all-black map
+    double mean_max_radiance = 0;
+  };
+  std::shared_ptr<const Data> data_;  // shared by rotated copies
   double rotation_rad_ = 0;
-  std::unique_ptr<Distribution2D> distribution_;  // null for an all-black map
   Vec3 sun_;
 };
 

@@ -7,6 +7,8 @@
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +18,66 @@
 #include "basis/error.h"
 
 namespace zbrdf {
+namespace {
+
+// The checks every environment reader makes: NaN and infinity are errors, negative values are
+// set to 0 and counted (the caller warns).
+void StorePixel(const std::string& path, RgbImage& image, size_t i, Rgb v, int* negatives) {
+  if (!v.IsFinite()) {
+    throw InputError("environment map " + path + ": pixel " + std::to_string(i % image.width) +
+                     "," + std::to_string(i / image.width) +
+                     " is NaN or infinite; repair the image");
+  }
+  if (v.r < 0 || v.g < 0 || v.b < 0) {
+    ++*negatives;
+    v = Rgb(std::max(0.0, v.r), std::max(0.0, v.g), std::max(0.0, v.b));
+  }
+  image.pixels[i] = v;
+}
+
+std::string LowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+RgbImage ReadHdrImage(const std::string& path, int* negative_pixels) {
+  if (!std::filesystem::is_regular_file(path)) {
+    throw InputError("cannot read Radiance HDR image " + path + ": no such file");
+  }
+  cv::Mat bgr;
+  try {
+    bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+  } catch (const cv::Exception& e) {
+    throw InputError("cannot read Radiance HDR image " + path + ": " + e.what());
+  }
+  if (bgr.empty() || bgr.type() != CV_32FC3) {
+    throw InputError("cannot read Radiance HDR image " + path +
+                     ": not an RGBE file OpenCV can decode (write .hdr or .exr)");
+  }
+  RgbImage image(bgr.cols, bgr.rows);
+  int negatives = 0;
+  for (int y = 0; y < bgr.rows; ++y) {
+    for (int x = 0; x < bgr.cols; ++x) {
+      const cv::Vec3f p = bgr.at<cv::Vec3f>(y, x);
+      StorePixel(path, image, static_cast<size_t>(y) * image.width + x, Rgb(p[2], p[1], p[0]),
+                 &negatives);
+    }
+  }
+  if (negative_pixels) *negative_pixels = negatives;
+  return image;
+}
+
+RgbImage ReadEnvironmentImage(const std::string& path, int* negative_pixels) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".exr") return ReadExrImage(path, negative_pixels);
+  if (ext == ".hdr" || ext == ".pic") return ReadHdrImage(path, negative_pixels);
+  throw InputError("environment map " + path +
+                   ": unknown file type; give an OpenEXR (.exr) or Radiance RGBE (.hdr) "
+                   "latitude-longitude image");
+}
 
 RgbImage ReadExrImage(const std::string& path, int* negative_pixels) {
   RgbImage image;
@@ -38,17 +100,7 @@ RgbImage ReadExrImage(const std::string& path, int* negative_pixels) {
     file.readPixels(window.min.y, window.max.y);
     int negatives = 0;
     for (size_t i = 0; i < image.pixels.size(); ++i) {
-      Rgb v(channels[0][i], channels[1][i], channels[2][i]);
-      if (!v.IsFinite()) {
-        throw InputError("environment map " + path + ": pixel " + std::to_string(i % image.width) +
-                         "," + std::to_string(i / image.width) +
-                         " is NaN or infinite; repair the image");
-      }
-      if (v.r < 0 || v.g < 0 || v.b < 0) {
-        ++negatives;
-        v = Rgb(std::max(0.0, v.r), std::max(0.0, v.g), std::max(0.0, v.b));
-      }
-      image.pixels[i] = v;
+      StorePixel(path, image, i, Rgb(channels[0][i], channels[1][i], channels[2][i]), &negatives);
     }
     if (negative_pixels) *negative_pixels = negatives;
   } catch (const InputError&) {

@@ -24,6 +24,12 @@ struct RgbImage {
 // Throws InputError naming the file if it cannot be read or holds NaN or infinite values.
 // Negative values are set to 0 and counted in *negative_pixels (if given).
 RgbImage ReadExrImage(const std::string& path, int* negative_pixels = nullptr);
+// Reads a Radiance RGBE (.hdr, "radiance" or "RGBE" header) image through OpenCV, with the same
+// checks and negative-value handling as ReadExrImage.
+RgbImage ReadHdrImage(const std::string& path, int* negative_pixels = nullptr);
+// ReadExrImage or ReadHdrImage by the file's extension (.exr, .hdr or .pic, any case); any other
+// extension is an InputError naming the formats read.
+RgbImage ReadEnvironmentImage(const std::string& path, int* negative_pixels = nullptr);
 // Writes 32-bit float R, G, B (atomically). Throws InputError if it cannot.
 void WriteExrImage(const std::string& path, const RgbImage& image);
 

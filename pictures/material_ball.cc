@@ -6,50 +6,13 @@
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "brdf/sampling.h"
+#include "pictures/ball_geometry.h"
 
 namespace zbrdf {
 namespace {
 
-// SplitMix64 (Steele, Lea & Flood 2014): a small, fast generator, seeded per pixel so that the
-// image does not depend on how rows are split among threads.
-class PixelRng {
- public:
-  PixelRng(uint64_t seed, int x, int y)
-      : state_(seed * 0x9E3779B97F4A7C15ull ^
-               (static_cast<uint64_t>(y) << 32 | static_cast<uint32_t>(x))) {
-    Next();
-  }
-  double Uniform() { return static_cast<double>(Next() >> 11) * 0x1p-53; }
-
- private:
-  uint64_t Next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  uint64_t state_;
-};
-
-struct Frame {
-  Vec3 t, b, n;
-  Vec3 ToLocal(const Vec3& d) const { return {Dot(d, t), Dot(d, b), Dot(d, n)}; }
-  Vec3 ToWorld(const Vec3& d) const { return FromLocalFrame(d, t, b, n); }
-};
-
-// Tangent along the horizontal circle through the point (see material_ball.h).
-Frame ShadingFrame(const Vec3& n) {
-  Frame f;
-  f.n = n;
-  const Vec3 around = Cross(Vec3{0, 1, 0}, n);
-  if (Dot(around, around) > 1e-12) {
-    f.t = Normalize(around);
-    f.b = Cross(n, f.t);
-  } else {
-    OrthonormalBasis(n, &f.t, &f.b);
-  }
-  return f;
-}
+using ball::Frame;
+using ball::PixelRng;
 
 // Veach & Guibas 1995, the power heuristic with beta = 2: the weight of a sample drawn with
 // density a when the other strategy would have drawn it with density b.
@@ -117,11 +80,6 @@ BallImage RenderBall(const Brdf& brdf, const Environment* env, const BallOptions
   }
   const Vec3 light = directional ? Normalize(*options.light_direction) : Vec3();
   const int size = options.size;
-  // Image plane extent: the ball (radius 1) fills 1 / 1.1 of the frame.
-  const double extent = 1.1;
-  // Pinhole: camera at distance 4 on +z; the field of view frames the ball's silhouette.
-  const double distance = 4.0;
-  const double tan_half = std::tan(std::asin(1.0 / distance)) * extent;
   BallImage out;
   out.image = RgbImage(size, size);
   out.coverage.assign(static_cast<size_t>(size) * size, 0);
@@ -132,35 +90,21 @@ BallImage RenderBall(const Brdf& brdf, const Environment* env, const BallOptions
         Rgb sum;
         for (int k = 0; k < options.spp; ++k) {
           // Pixel centre for the first sample, jittered after it.
-          const double jx = k == 0 ? 0.5 : rng.Uniform(), jy = k == 0 ? 0.5 : rng.Uniform();
-          const double sx = (2.0 * (x + jx) / size - 1.0) * extent;
-          const double sy = (1.0 - 2.0 * (y + jy) / size) * extent;
-          Vec3 origin, direction;
-          if (options.camera == BallOptions::Camera::kOrthographic) {
-            origin = {sx, sy, 10.0};
-            direction = {0, 0, -1};
-          } else {
-            origin = {0, 0, distance};
-            direction = Normalize(Vec3{sx / extent * tan_half, sy / extent * tan_half, -1.0});
-          }
-          // Ray-sphere intersection, |origin + s direction| = 1.
-          const double b = Dot(origin, direction);
-          const double c = Dot(origin, origin) - 1.0;
-          const double disc = b * b - c;
-          if (disc <= 0) {
-            sum += directional ? options.background : env->Radiance(direction);
+          const bool centre = k == 0 || !options.jitter;
+          const double jx = centre ? 0.5 : rng.Uniform(), jy = centre ? 0.5 : rng.Uniform();
+          const ball::PixelView view = ball::ViewThrough(options, x + jx, y + jy);
+          if (!view.on_ball) {
+            sum += directional ? options.background : env->Radiance(view.direction);
             continue;
           }
           if (k == 0) out.coverage[static_cast<size_t>(y) * size + x] = 1;
-          const Vec3 p = origin + direction * (-b - std::sqrt(disc));
-          const Frame frame = ShadingFrame(Normalize(p));
-          const Vec3 w_o = frame.ToLocal(-direction);
+          const Vec3& w_o = view.w_o;
           if (w_o.z <= 0) continue;
           if (directional) {
-            const Vec3 w_i = frame.ToLocal(light);
+            const Vec3 w_i = view.frame.ToLocal(light);
             if (w_i.z > 0) sum += brdf.Eval(w_i, w_o) * (w_i.z * options.light_irradiance);
           } else {
-            sum += EnvironmentEstimate(brdf, *env, frame, w_o, options.sampling, rng);
+            sum += EnvironmentEstimate(brdf, *env, view.frame, w_o, options.sampling, rng);
           }
         }
         out.image.At(x, y) = sum / options.spp;

@@ -36,6 +36,9 @@ struct BallOptions {
   double light_irradiance = M_PI;
   Rgb background{0.02};  // behind the ball in directional-light mode
   uint64_t seed = 1;
+  // Jitter a pixel's samples after the first (antialiasing); false: every sample at the pixel
+  // centre, as the relighting samplers do (relight.h), so that images compare pixel for pixel.
+  bool jitter = true;
 
   // Throws InvalidOptions (an InputError) naming every field out of range and the values it
   // accepts (basis/option_checker.h).

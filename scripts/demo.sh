@@ -5,7 +5,7 @@
 # material's true coefficients; then the SH conversion, the recommended whole-hemisphere fit
 # (`fit --model auto`: the prior learned from measured materials, the D-BRDF and GGX, compared by
 # cross-validation; with the thesis's figure 3.3: truth | SH | fit), a material-ball preview of
-# it and an HTML report. Results land in
+# it, a 30-frame turntable under the studio map and an HTML report. Results land in
 # results/blue-acrylic/ (open report.html).
 #
 #   bash scripts/demo.sh                 # full resolution (about 2 minutes on 2 cores)
@@ -29,6 +29,7 @@ echo
 ./build/zbrdf fit "$out" --model auto --figure "$out/figure-3-3.png"
 echo
 ./build/zbrdf preview "$out" --out "$out/ball.png"
+./build/zbrdf preview "$out" --turntable 30 --environment studio --sampler sir --spp 16
 ./build/zbrdf report "$out"
 echo
 echo "Results in $out/:"
@@ -40,6 +41,7 @@ echo "  fit-prior.exr    the whole-hemisphere fit from the prior (docs/prior.md)
 echo "  fit-dbrdf.exr    the D-BRDF candidate (docs/sh-and-dbrdf-files.md); fit-*.json the reports"
 echo "  figure-3-3.png   ground truth | SH of the zonal data | recommended fit"
 echo "  ball.png         a material ball of the recommended fit under the built-in sky"
+echo "  turntable/       a 30-frame turntable under the studio map: animation.png (animated), frames"
 echo "  hdr/*.exr        the HDR image of every basis pattern"
 echo "  frames/          the raw frames (16-bit TIFF), journal.jsonl, session.json"
 echo "  report.json      timings and the coefficient error against the material"

@@ -5,7 +5,13 @@
 
 #include <cmath>
 
+#include <opencv2/imgcodecs.hpp>
+
+#include "basis/atomic_file.h"
+#include "basis/error.h"
+#include "pictures/image.h"
 #include "tests/brdf/brdf_checks.h"
+#include "tests/test_files.h"
 
 namespace zbrdf {
 namespace {
@@ -51,6 +57,94 @@ TEST(Environment, SamplingDensityMatchesPdfAndIntegratesToOne) {
     }
   }
   EXPECT_NEAR(irradiance, 2.5 * M_PI, 0.02 * 2.5 * M_PI + sky_only);
+}
+
+}  // namespace
+}  // namespace zbrdf
+
+namespace zbrdf {
+namespace {
+
+// A small map with distinct, asymmetric values: pixel (x, y) = (x + 1, y + 1, x y + 1) / 8.
+RgbImage Pattern() {
+  RgbImage image(16, 8);
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 16; ++x) image.At(x, y) = Rgb(x + 1, y + 1, x * y + 1) / 8.0;
+  }
+  return image;
+}
+
+TEST(Environment, RotatedMapTurnsItsRadianceAboutTheVerticalAxis) {
+  // Rotating by r and looking along R_y(r) d sees what the original shows along d.
+  const Environment env(Pattern());
+  testing::Rng rng(5);
+  for (double r : {0.3, -1.2, 2.0 * M_PI / 16}) {
+    const Environment turned = env.Rotated(r);
+    EXPECT_NEAR(turned.rotation_rad(), r, 1e-15);
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 d = testing::RandomUpperDirection(rng);
+      // Direction() convention: (x, z) = sin(theta) (sin phi, -cos phi), phi -> phi + r.
+      const double c = std::cos(r), s = std::sin(r);
+      const Vec3 rd{d.x * c - d.z * s, d.y, d.z * c + d.x * s};
+      ASSERT_EQ(turned.Radiance(rd), env.Radiance(d)) << k;
+      ASSERT_NEAR(turned.Pdf(rd), env.Pdf(d), 1e-12 * env.Pdf(d)) << k;
+    }
+  }
+  // The sky's sun turns with it.
+  const Environment sky = Environment::Sky();
+  const Environment turned = sky.Rotated(0.7);
+  const Vec3 sun = turned.sun_direction();
+  EXPECT_GT(turned.Radiance(sun).Max(), 50.0);
+  EXPECT_NEAR(Length(sun), 1.0, 1e-12);
+}
+
+TEST(Environment, MeanRadianceIsTheSolidAngleMeanOfTheLargestChannel) {
+  EXPECT_NEAR(Environment::Constant(Rgb(0.2, 0.7, 0.4)).mean_max_radiance(), 0.7, 1e-14);
+  // Only the top row lit (value 1, height 4): a cap down to 45 deg, solid angle
+  // 2 pi (1 - cos 45 deg) of the sphere's 4 pi.
+  RgbImage top(8, 4);
+  for (int x = 0; x < 8; ++x) top.At(x, 0) = Rgb(1.0);
+  const double expected = (1 - std::cos(M_PI / 4)) / 2;
+  EXPECT_NEAR(Environment(std::move(top)).mean_max_radiance(), expected, 1e-12);
+}
+
+TEST(Environment, ReadsRadianceHdrAndOpenExrMapsByExtension) {
+  testing::TempDir dir("environment-files");
+  const RgbImage pattern = Pattern();
+  WriteExrImage(dir.File("map.exr"), pattern);
+  // Radiance RGBE written by OpenCV: a shared 8-bit exponent per pixel, so each channel is
+  // within 1/256 of the pixel's largest (relative) after the round trip.
+  cv::Mat bgr(pattern.height, pattern.width, CV_32FC3);
+  for (int y = 0; y < pattern.height; ++y) {
+    for (int x = 0; x < pattern.width; ++x) {
+      const Rgb& v = pattern.At(x, y);
+      bgr.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(v.b), static_cast<float>(v.g),
+                                          static_cast<float>(v.r));
+    }
+  }
+  ASSERT_TRUE(cv::imwrite(dir.File("map.HDR"), bgr));
+  const Environment exr = Environment::FromFile(dir.File("map.exr"));
+  const Environment hdr = Environment::FromFile(dir.File("map.HDR"));
+  ASSERT_EQ(hdr.image().width, 16);
+  ASSERT_EQ(hdr.image().height, 8);
+  for (size_t i = 0; i < pattern.pixels.size(); ++i) {
+    const Rgb& want = pattern.pixels[i];
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(exr.image().pixels[i][c], want[c], 1e-6);
+      EXPECT_NEAR(hdr.image().pixels[i][c], want[c], want.Max() / 128.0) << i << " " << c;
+    }
+  }
+  // Errors name the file and what to give.
+  WriteFileAtomically(dir.File("map.png"), "not an image");
+  try {
+    Environment::FromFile(dir.File("map.png"));
+    ADD_FAILURE() << "a .png map was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(".hdr"), std::string::npos) << e.what();
+  }
+  WriteFileAtomically(dir.File("broken.hdr"), "#?RADIANCE\ngarbage");
+  EXPECT_THROW(Environment::FromFile(dir.File("broken.hdr")), InputError);
+  EXPECT_THROW(Environment::FromFile(dir.File("missing.hdr")), InputError);
 }
 
 }  // namespace

@@ -164,11 +164,22 @@ TEST(MaterialBall, StrategiesAgreeInExpectation) {
   };
   const double mis = mean_of(BallOptions::Sampling::kMis);
   const double light = mean_of(BallOptions::Sampling::kLight);
-  const double brdf_only = mean_of(BallOptions::Sampling::kBrdf);
-  // ~300 pixels x 1024 samples; the strategies' relative standard errors of the mean are below
-  // 0.5% (light, MIS) and 1.5% (BRDF only, which finds the sun rarely): 4% is > 2.5 sigma.
+  // ~300 pixels x 1024 samples; the relative standard errors of the mean are below 0.5% for
+  // light and MIS sampling (measured over seeds: 0.3%): 2% is > 4 sigma.
   EXPECT_NEAR(light, mis, 0.02 * mis);
-  EXPECT_NEAR(brdf_only, mis, 0.04 * mis);
+  // BRDF sampling finds the 2-deg sun rarely, so its estimate is heavy-tailed (over seeds it
+  // spreads by ~6%): its mean and standard error are taken over 8 seeds, and it must agree with
+  // MIS within 4 standard errors plus MIS's own 1%.
+  std::vector<double> brdf_only;
+  for (uint64_t seed = 11; seed <= 18; ++seed) {
+    options.seed = seed;
+    brdf_only.push_back(mean_of(BallOptions::Sampling::kBrdf));
+  }
+  double mean = 0, var = 0;
+  for (double v : brdf_only) mean += v / brdf_only.size();
+  for (double v : brdf_only) var += (v - mean) * (v - mean) / (brdf_only.size() - 1);
+  const double se = std::sqrt(var / brdf_only.size());
+  EXPECT_NEAR(mean, mis, 4 * se + 0.01 * mis) << "standard error " << se;
 }
 
 }  // namespace

@@ -11,8 +11,10 @@ void AddPreviewFlags(CommandLine& cl, int default_spp, int default_size) {
   cl.Option("light", "dir:THETA,PHI",
             "a directional light instead of an environment: THETA from the view axis, PHI from "
             "the image's right toward its top, degrees")
-      .Option("envmap", "FILE.exr",
-              "equirectangular HDR environment (default: the built-in sky, docs/preview.md)")
+      .Option("environment", "E",
+              "the light: an equirectangular HDR map (.exr or .hdr), or the built-in sky or "
+              "studio (default: sky; docs/preview.md)")
+      .Option("envmap", "E", "the same as --environment (its earlier name)")
       .Option("envmap-rotate", "DEG", "turn the environment about the vertical axis", "0")
       .Option("spp", "N", "samples per pixel", std::to_string(default_spp))
       .Option("size", "N", "image width and height in pixels", std::to_string(default_size))
@@ -41,6 +43,18 @@ Vec3 ParseLightDirection(const std::string& text) {
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
+Environment LoadEnvironment(const std::string& name) {
+  if (name == "sky") return Environment::Sky();
+  if (name == "studio") return Environment::Studio();
+  int negatives = 0;
+  Environment env = Environment::FromFile(name, 0.0, &negatives);
+  if (negatives > 0) {
+    std::fprintf(stderr, "zbrdf: warning: environment %s: %d pixels had negative values, set to 0\n",
+                 name.c_str(), negatives);
+  }
+  return env;
+}
+
 PreviewSetup ReadPreviewFlags(const CommandLine& cl) {
   PreviewSetup setup;
   setup.ball.spp = cl.GetInt("spp", 1, 1 << 20);
@@ -67,29 +81,27 @@ PreviewSetup ReadPreviewFlags(const CommandLine& cl) {
   } else {
     throw InputError("--sampling must be mis, brdf, cosine or light (got '" + sampling + "')");
   }
+  if (cl.Has("environment") && cl.Has("envmap")) {
+    throw InputError("--environment and --envmap are the same flag; give one");
+  }
+  const std::string environment = cl.Has("environment") ? cl.Get("environment")
+                                  : cl.Has("envmap")    ? cl.Get("envmap")
+                                                        : "";
   if (cl.Has("light")) {
-    if (cl.Has("envmap")) {
-      throw InputError("--light and --envmap exclude each other: a preview has one kind of light");
+    if (!environment.empty()) {
+      throw InputError(
+          "--light and --environment exclude each other: a preview has one kind of light");
     }
     setup.ball.light_direction = ParseLightDirection(cl.Get("light"));
     setup.lighting = cl.Get("light");
     return setup;
   }
   const double rotation = cl.GetDouble("envmap-rotate", -360, 360) * M_PI / 180;
-  if (cl.Has("envmap") && cl.Get("envmap") != "sky") {
-    int negatives = 0;
-    RgbImage image = ReadExrImage(cl.Get("envmap"), &negatives);
-    if (negatives > 0) {
-      std::fprintf(stderr, "zbrdf: warning: --envmap %s: %d pixels had negative values, set to 0\n",
-                   cl.Get("envmap").c_str(), negatives);
-    }
-    setup.environment = std::make_unique<Environment>(std::move(image), rotation);
-    setup.lighting = "envmap " + cl.Get("envmap");
-  } else {
-    RgbImage sky = Environment::Sky().image();
-    setup.environment = std::make_unique<Environment>(std::move(sky), rotation);
-    setup.lighting = "sky";
-  }
+  setup.environment = std::make_unique<Environment>(
+      LoadEnvironment(environment.empty() ? "sky" : environment).Rotated(rotation));
+  setup.lighting = environment.empty() || environment == "sky" ? "sky"
+                   : environment == "studio"                   ? "studio"
+                                                               : "environment " + environment;
   return setup;
 }
 

@@ -1,0 +1,391 @@
+#include "pictures/relight.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "basis/error.h"
+#include "basis/option_checker.h"
+#include "basis/parallel.h"
+#include "pictures/ball_geometry.h"
+
+namespace zbrdf {
+namespace {
+
+using ball::Frame;
+using ball::PixelRng;
+
+// One frame's light as the samplers see it: the map and the floor eps of the target g.
+struct Light {
+  const Environment* env = nullptr;
+  double eps = 0;
+  double Floored(const Rgb& radiance) const { return radiance.Max() + eps; }
+};
+
+Light MakeLight(const Environment& env) {
+  // The floor: 1e-3 of the mean radiance (relight.h); a black map gets a floor of 1 (its
+  // estimates are 0 whatever the target).
+  const double mean = env.mean_max_radiance();
+  return {&env, mean > 0 ? 1e-3 * mean : 1.0};
+}
+
+// A direction proposed by the mixture q = a p_b + (1 - a) p_e, with both densities, the world
+// direction and the radiance there. valid is false when the technique produced nothing or the
+// direction is below the horizon (where g = 0).
+struct Proposal {
+  bool valid = false;
+  Vec3 w, d;
+  double pdf_brdf = 0, pdf_env = 0;
+  Rgb radiance;
+};
+
+Proposal Propose(const Brdf& brdf, const Frame& frame, const Vec3& w_o, const Environment& env,
+                 bool from_brdf, PixelRng& rng) {
+  Proposal p;
+  if (from_brdf) {
+    const double u_lobe = rng.Uniform(), u0 = rng.Uniform(), u1 = rng.Uniform();
+    const BrdfSample s = brdf.Sample(w_o, u_lobe, u0, u1);
+    if (!(s.pdf > 0) || s.w_i.z <= 0) return p;
+    p.w = s.w_i;
+    p.pdf_brdf = s.pdf;
+    p.d = frame.ToWorld(p.w);
+    p.pdf_env = env.Pdf(p.d);
+  } else {
+    const double u0 = rng.Uniform(), u1 = rng.Uniform();
+    p.d = env.Sample(u0, u1, &p.pdf_env);
+    if (!(p.pdf_env > 0)) return p;
+    p.w = frame.ToLocal(p.d);
+    if (p.w.z <= 0) return p;
+    p.pdf_brdf = brdf.Pdf(w_o, p.w);
+    if (!(p.pdf_brdf > 0)) return p;
+  }
+  p.radiance = env.Radiance(p.d);
+  p.valid = true;
+  return p;
+}
+
+struct PixelContext {
+  const Brdf* brdf;
+  Frame frame;
+  Vec3 w_o;
+  const RelightOptions* options;
+  int n;  // particles
+  int m;  // candidates
+};
+
+void Store(const Vec3& w, double pdf_brdf, const Rgb& ratio, double weight, RelightParticle* p) {
+  p->w[0] = static_cast<float>(w.x);
+  p->w[1] = static_cast<float>(w.y);
+  p->w[2] = static_cast<float>(w.z);
+  p->pdf_brdf = static_cast<float>(pdf_brdf);
+  for (int c = 0; c < 3; ++c) p->ratio[c] = static_cast<float>(ratio[c]);
+  p->weight = static_cast<float>(weight);
+}
+
+Vec3 Direction(const RelightParticle& p) { return {p.w[0], p.w[1], p.w[2]}; }
+Rgb Ratio(const RelightParticle& p) { return {p.ratio[0], p.ratio[1], p.ratio[2]}; }
+
+struct Counters {
+  int64_t evaluations = 0, sir_starts = 0, resamplings = 0, proposed = 0, accepted = 0;
+  double ess_fraction_sum = 0;
+  int64_t ess_pixels = 0;
+};
+
+// SIR for one pixel (relight.h). Writes N equally weighted particles to out (if not empty) and
+// the normalizing constant's estimate to *z (0 when no candidate carries weight: no light).
+Rgb Sir(const PixelContext& ctx, const Light& light, PixelRng& rng,
+        std::span<RelightParticle> out, double* z, Counters& counters) {
+  const int m = ctx.m, n = ctx.n;
+  const int m_brdf = std::max(1, static_cast<int>(std::lround(
+                                     ctx.options->brdf_candidate_share * m)));
+  const double share = static_cast<double>(m_brdf) / m;
+  thread_local std::vector<Proposal> candidates;
+  thread_local std::vector<double> weights;
+  thread_local std::vector<int> picks;
+  candidates.resize(m);
+  weights.assign(m, 0.0);
+  double sum = 0;
+  for (int j = 0; j < m; ++j) {
+    candidates[j] = Propose(*ctx.brdf, ctx.frame, ctx.w_o, *light.env, j < m_brdf, rng);
+    const Proposal& c = candidates[j];
+    if (!c.valid) continue;
+    const double g = light.Floored(c.radiance) * c.pdf_brdf;
+    const double q = share * c.pdf_brdf + (1.0 - share) * c.pdf_env;
+    weights[j] = g / q;
+    sum += weights[j];
+  }
+  ++counters.sir_starts;
+  *z = sum / m;
+  if (!(sum > 0)) return Rgb();
+  for (double& w : weights) w /= sum;
+  picks.resize(n);
+  SystematicResample(weights, rng.Uniform(), picks);
+  Rgb estimate, ratio;
+  int evaluated = -1;
+  for (int k = 0; k < n; ++k) {
+    const Proposal& c = candidates[picks[k]];
+    if (picks[k] != evaluated) {  // systematic picks are sorted: duplicates are adjacent
+      ratio = ctx.brdf->Eval(c.w, ctx.w_o) * (c.w.z / c.pdf_brdf);
+      evaluated = picks[k];
+      ++counters.evaluations;
+    }
+    estimate += ratio * c.radiance / light.Floored(c.radiance);
+    if (!out.empty()) Store(c.w, c.pdf_brdf, ratio, 1.0 / n, &out[k]);
+  }
+  return estimate * (*z / n);
+}
+
+// One SMC frame for one pixel (relight.h): particles from `previous`'s target to `current`'s.
+// Returns false (and leaves the estimate unset) when every particle lost its weight.
+bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& current,
+              PixelRng& rng, std::span<RelightParticle> particles, double* z, Rgb* estimate,
+              Counters& counters) {
+  const int n = ctx.n, bridges = ctx.options->bridges;
+  const double share = ctx.options->brdf_candidate_share;
+  struct Cache {
+    double m_prev, m_cur, pdf_env;
+    Rgb radiance;
+    bool stale;
+  };
+  thread_local std::vector<double> weights, increments;
+  thread_local std::vector<Cache> cache, cache_copy;
+  thread_local std::vector<RelightParticle> copy;
+  thread_local std::vector<int> picks;
+  weights.resize(n);
+  increments.resize(n);
+  cache.resize(n);
+  for (int k = 0; k < n; ++k) {
+    const Vec3 d = ctx.frame.ToWorld(Direction(particles[k]));
+    Cache& c = cache[k];
+    c.radiance = current.env->Radiance(d);
+    c.m_prev = previous.Floored(previous.env->Radiance(d));
+    c.m_cur = current.Floored(c.radiance);
+    c.pdf_env = current.env->Pdf(d);
+    c.stale = false;
+    weights[k] = particles[k].weight;
+  }
+  double ess = n;
+  double z_factor = 1;
+  for (int step = 1; step <= bridges; ++step) {
+    const double b = static_cast<double>(step) / bridges;
+    for (int k = 0; k < n; ++k) {
+      increments[k] = std::exp(std::log(cache[k].m_cur / cache[k].m_prev) / bridges);
+    }
+    const Reweighting r = ReweightParticles(weights, increments);
+    if (!(r.z_factor > 0)) return false;
+    z_factor *= r.z_factor;
+    ess = r.ess;
+    if (r.ess < ctx.options->ess_threshold * n) {
+      picks.resize(n);
+      SystematicResample(weights, rng.Uniform(), picks);
+      copy.assign(particles.begin(), particles.end());
+      cache_copy = cache;
+      for (int k = 0; k < n; ++k) {
+        particles[k] = copy[picks[k]];
+        cache[k] = cache_copy[picks[k]];
+        weights[k] = 1.0 / n;
+      }
+      ++counters.resamplings;
+    }
+    // The move: conditional (iterated) SIR (Andrieu, Lee & Vihola 2018), an independence
+    // Metropolis-Hastings kernel with J - 1 proposals from q (frame t's mixture) and the current
+    // particle, one of them kept in proportion to g_b / q; it leaves the bridge
+    // g_b = p_b m_prev^(1-b) m_cur^b invariant.
+    const int tries = ctx.options->move_candidates;
+    for (int k = 0; k < n; ++k) {
+      const Cache& c = cache[k];
+      const double pdf_brdf = particles[k].pdf_brdf;
+      const double w_current = pdf_brdf * std::pow(c.m_prev, 1.0 - b) * std::pow(c.m_cur, b) /
+                               (share * pdf_brdf + (1.0 - share) * c.pdf_env);
+      double w_sum = w_current;
+      Proposal kept;
+      double kept_m_prev = 0, kept_m_cur = 0;
+      for (int j = 1; j < tries; ++j) {
+        const bool from_brdf = rng.Uniform() < share;
+        const Proposal p = Propose(*ctx.brdf, ctx.frame, ctx.w_o, *current.env, from_brdf, rng);
+        ++counters.proposed;
+        if (!p.valid) continue;
+        const double m_prev = previous.Floored(previous.env->Radiance(p.d));
+        const double m_cur = current.Floored(p.radiance);
+        const double w = p.pdf_brdf * std::pow(m_prev, 1.0 - b) * std::pow(m_cur, b) /
+                         (share * p.pdf_brdf + (1.0 - share) * p.pdf_env);
+        w_sum += w;
+        // Reservoir choice: the new proposal replaces the kept one with probability w / w_sum.
+        if (rng.Uniform() * w_sum < w) {
+          kept = p;
+          kept_m_prev = m_prev;
+          kept_m_cur = m_cur;
+        }
+      }
+      if (kept.valid) {
+        Store(kept.w, kept.pdf_brdf, Rgb(), particles[k].weight, &particles[k]);
+        cache[k] = {kept_m_prev, kept_m_cur, kept.pdf_env, kept.radiance, true};
+        ++counters.accepted;
+      }
+    }
+  }
+  *z *= z_factor;
+  counters.ess_fraction_sum += ess / n;
+  ++counters.ess_pixels;
+  Rgb sum;
+  for (int k = 0; k < n; ++k) {
+    RelightParticle& p = particles[k];
+    if (cache[k].stale) {
+      const Vec3 w = Direction(p);
+      const Rgb ratio = ctx.brdf->Eval(w, ctx.w_o) * (w.z / p.pdf_brdf);
+      Store(w, p.pdf_brdf, ratio, weights[k], &p);
+      ++counters.evaluations;
+    }
+    p.weight = static_cast<float>(weights[k]);
+    sum += Ratio(p) * cache[k].radiance * (weights[k] / cache[k].m_cur);
+  }
+  *estimate = sum * *z;
+  return true;
+}
+
+}  // namespace
+
+void RelightOptions::Validate() const {
+  ball.Validate();
+  OptionChecker check("RelightOptions");
+  check.AtLeast("candidates", candidates, 0)
+      .AtLeast("bridges", bridges, 1)
+      .AtLeast("move_candidates", move_candidates, 2)
+      .Require(brdf_candidate_share > 0 && brdf_candidate_share <= 1, "brdf_candidate_share",
+               "must be in (0, 1]: the BRDF's sampler must propose (got " +
+                   FormatOptionValue(brdf_candidate_share) + ")")
+      .Require(ess_threshold >= 0 && ess_threshold <= 1, "ess_threshold",
+               "must be in [0, 1] (got " + FormatOptionValue(ess_threshold) + ")")
+      .Require(ball.light_direction == std::nullopt, "ball.light_direction",
+               "relighting needs an environment, not a directional light")
+      .ThrowIfInvalid();
+}
+
+Reweighting ReweightParticles(std::span<double> weights, std::span<const double> incremental) {
+  ZBRDF_ASSERT(weights.size() == incremental.size(), "ReweightParticles: sizes differ");
+  Reweighting r;
+  for (size_t k = 0; k < weights.size(); ++k) r.z_factor += weights[k] * incremental[k];
+  if (!(r.z_factor > 0)) return {};
+  double sum_sq = 0;
+  for (size_t k = 0; k < weights.size(); ++k) {
+    weights[k] = weights[k] * incremental[k] / r.z_factor;
+    sum_sq += weights[k] * weights[k];
+  }
+  r.ess = 1.0 / sum_sq;
+  return r;
+}
+
+void SystematicResample(std::span<const double> weights, double u, std::span<int> indices) {
+  ZBRDF_ASSERT(!weights.empty() && u >= 0 && u < 1, "SystematicResample: bad input");
+  const size_t n = indices.size();
+  double cumulative = weights[0];
+  size_t i = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const double target = (static_cast<double>(k) + u) / static_cast<double>(n);
+    while (target >= cumulative && i + 1 < weights.size()) cumulative += weights[++i];
+    indices[k] = static_cast<int>(i);
+  }
+}
+
+BallSequence::BallSequence(const Brdf& brdf, RelightOptions options)
+    : brdf_(brdf), options_(std::move(options)) {
+  options_.Validate();
+  if (options_.candidates == 0) options_.candidates = 4 * options_.ball.spp;
+}
+
+BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
+  const int frame = frame_++;
+  const BallOptions& ball_options = options_.ball;
+  const int size = ball_options.size;
+  if (options_.sampler == BallSampler::kMis) {
+    BallOptions mis = ball_options;
+    mis.sampling = BallOptions::Sampling::kMis;
+    mis.jitter = false;
+    mis.seed = ball_options.seed + static_cast<uint64_t>(frame) * 0x9E3779B9ull;
+    BallImage image = RenderBall(brdf_, &env, mis);
+    if (stats) {
+      *stats = {};
+      for (uint8_t c : image.coverage) stats->pixels += c;
+      stats->brdf_evaluations = stats->pixels * 2 * mis.spp;
+    }
+    return image;
+  }
+  const int n = ball_options.spp;
+  const bool smc = options_.sampler == BallSampler::kSmc;
+  const size_t pixel_count = static_cast<size_t>(size) * size;
+  if (smc && particles_.empty()) {
+    particles_.resize(pixel_count * n);
+    z_.assign(pixel_count, 0.0);
+  }
+  const Light current = MakeLight(env);
+  const Light previous = previous_ ? MakeLight(*previous_) : Light{};
+  BallImage out;
+  out.image = RgbImage(size, size);
+  out.coverage.assign(pixel_count, 0);
+  std::atomic<int64_t> pixels{0}, evaluations{0}, sir_starts{0}, resamplings{0}, proposed{0},
+      accepted{0}, ess_pixels{0};
+  std::atomic<double> ess_sum{0};
+  ParallelFor(size, 1, [&](int64_t row_begin, int64_t row_end) {
+    Counters counters;
+    int64_t row_pixels = 0;
+    for (int y = static_cast<int>(row_begin); y < row_end; ++y) {
+      for (int x = 0; x < size; ++x) {
+        const size_t i = static_cast<size_t>(y) * size + x;
+        const ball::PixelView view = ball::ViewThrough(ball_options, x + 0.5, y + 0.5);
+        if (!view.on_ball) {
+          out.image.pixels[i] = env.Radiance(view.direction);
+          continue;
+        }
+        out.coverage[i] = 1;
+        if (view.w_o.z <= 0) continue;
+        ++row_pixels;
+        if (brdf_.IsDelta()) {
+          const BrdfSample s = brdf_.Sample(view.w_o, 0.5, 0.5, 0.5);
+          if (s.pdf > 0 && s.w_i.z > 0) {
+            out.image.pixels[i] = s.delta_reflectance * env.Radiance(view.frame.ToWorld(s.w_i));
+          }
+          continue;
+        }
+        PixelRng rng(ball_options.seed, x, y, static_cast<uint64_t>(frame) + 1);
+        const PixelContext ctx{&brdf_, view.frame, view.w_o, &options_, n, options_.candidates};
+        std::span<RelightParticle> particles;
+        if (smc) particles = std::span<RelightParticle>(particles_).subspan(i * n, n);
+        Rgb estimate;
+        bool done = false;
+        if (smc && previous_ && z_[i] > 0) {
+          done = SmcFrame(ctx, previous, current, rng, particles, &z_[i], &estimate, counters);
+        }
+        if (!done) {
+          double z = 0;
+          estimate = Sir(ctx, current, rng, particles, &z, counters);
+          if (smc) z_[i] = z;
+        }
+        out.image.pixels[i] = estimate;
+      }
+    }
+    pixels += row_pixels;
+    evaluations += counters.evaluations;
+    sir_starts += counters.sir_starts;
+    resamplings += counters.resamplings;
+    proposed += counters.proposed;
+    accepted += counters.accepted;
+    ess_pixels += counters.ess_pixels;
+    double expected = ess_sum.load();
+    while (!ess_sum.compare_exchange_weak(expected, expected + counters.ess_fraction_sum)) {
+    }
+  });
+  if (smc) previous_ = std::make_unique<Environment>(env);
+  if (stats) {
+    *stats = {};
+    stats->pixels = pixels;
+    stats->brdf_evaluations = evaluations;
+    stats->sir_starts = sir_starts;
+    stats->resamplings = resamplings;
+    stats->moves_proposed = proposed;
+    stats->moves_accepted = accepted;
+    stats->mean_ess_fraction = ess_pixels > 0 ? ess_sum.load() / ess_pixels.load() : 0.0;
+  }
+  return out;
+}
+
+}  // namespace zbrdf
