@@ -72,6 +72,20 @@ HalfVectorTable HalfVectorTable::Isotropic(std::vector<double> p_by_theta) {
   return table;
 }
 
+HalfVectorTable HalfVectorTable::Ggx(double alpha, int theta_samples) {
+  ZBRDF_ASSERT(alpha > 0 && theta_samples >= 2, "HalfVectorTable::Ggx: bad alpha or node count");
+  std::vector<double> p(theta_samples);
+  for (int j = 0; j < theta_samples; ++j) {
+    const double theta = 0.5 * M_PI * j / (theta_samples - 1);
+    const double s = std::sin(theta), c = std::cos(theta);
+    const double q = s * s / (alpha * alpha) + c * c;  // the same D, stable at grazing angles
+    p[j] = 1.0 / (M_PI * alpha * alpha * q * q);
+  }
+  HalfVectorTable table = Isotropic(std::move(p));
+  table.Normalize();
+  return table;
+}
+
 double HalfVectorTable::ThetaStep() const { return 0.5 * M_PI / (theta_samples - 1); }
 double HalfVectorTable::PhiStep() const { return 2.0 * M_PI / phi_samples; }
 

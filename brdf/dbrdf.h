@@ -36,6 +36,11 @@ struct HalfVectorTable {
 
   // An isotropic table from p at theta_samples = p_by_theta.size() nodes.
   static HalfVectorTable Isotropic(std::vector<double> p_by_theta);
+  // The GGX (Trowbridge-Reitz) distribution of roughness alpha,
+  //   D(theta_h) = 1 / (pi alpha^2 (sin^2 theta_h / alpha^2 + cos^2 theta_h)^2),
+  // at theta_samples nodes, normalized (Normalize()): the half-vector table of a glossy D-BRDF
+  // for tests and benchmarks (the thesis's figure 3.11 material).
+  static HalfVectorTable Ggx(double alpha, int theta_samples = 91);
 
   double ThetaStep() const;  // radians between theta nodes
   double PhiStep() const;    // radians between phi nodes

@@ -7,20 +7,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pictures/image.h"
+#include "pictures/plot_style.h"
 
 namespace zbrdf {
-namespace {
-
-const cv::Scalar kColors[] = {cv::Scalar(180, 60, 20),  cv::Scalar(40, 140, 40),
-                              cv::Scalar(30, 30, 200),  cv::Scalar(0, 150, 220),
-                              cv::Scalar(150, 60, 150), cv::Scalar(90, 90, 90)};
-
-void Text(cv::Mat& image, const std::string& s, cv::Point at, double scale = 0.42,
-          cv::Scalar c = cv::Scalar(40, 40, 40)) {
-  cv::putText(image, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
-}
-
-}  // namespace
+using plot::Text;
 
 void WriteErrorCdfPlot(const std::string& path, const std::string& title,
                        const std::vector<PlotSeries>& series) {
@@ -52,7 +42,7 @@ void WriteErrorCdfPlot(const std::string& path, const std::string& title,
     }
     if (v.empty()) continue;
     std::sort(v.begin(), v.end());
-    const cv::Scalar color = kColors[s % std::size(kColors)];
+    const cv::Scalar color = plot::SeriesColor(s);
     std::vector<cv::Point> pts{cv::Point(X(0), Y(0))};
     for (size_t k = 0; k < v.size(); ++k) {
       pts.emplace_back(X(v[k]), Y(static_cast<double>(k) / v.size()));

@@ -8,18 +8,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "basis/error.h"
+#include "pictures/plot_style.h"
 
 namespace zbrdf {
 namespace {
 
-const cv::Scalar kColors[] = {cv::Scalar(180, 60, 20), cv::Scalar(40, 140, 40),
-                              cv::Scalar(30, 30, 200), cv::Scalar(0, 150, 220),
-                              cv::Scalar(150, 60, 150), cv::Scalar(90, 90, 90)};
-
-void Text(cv::Mat& image, const std::string& s, cv::Point at, double scale = 0.42,
-          cv::Scalar c = cv::Scalar(40, 40, 40)) {
-  cv::putText(image, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
-}
+using plot::Text;
 
 bool Usable(const std::pair<double, double>& p) {
   return std::isfinite(p.first) && std::isfinite(p.second) && p.first > 0 && p.second > 0;
@@ -84,7 +78,7 @@ cv::Mat DrawLogLogPanel(const std::string& title, const std::string& x_label,
   Text(image, x_label, cv::Point(x0 + 80, h - 12));
   Text(image, y_label, cv::Point(x0 + 4, y0 - 5));
   for (size_t s = 0; s < series.size(); ++s) {
-    const cv::Scalar color = kColors[s % std::size(kColors)];
+    const cv::Scalar color = plot::SeriesColor(s);
     std::vector<std::pair<double, double>> pts;
     for (const auto& p : series[s].points) {
       if (Usable(p)) pts.push_back(p);

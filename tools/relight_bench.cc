@@ -13,7 +13,6 @@
 #include "basis/error.h"
 #include "basis/option_checker.h"
 #include "brdf/dbrdf.h"
-#include "brdf/ggx.h"
 #include "brdf/material_spec.h"
 #include "pictures/image.h"
 #include "pictures/relight.h"
@@ -34,12 +33,8 @@ const char* SamplerName(BallSampler s) {
 
 std::shared_ptr<const Brdf> BenchMaterial(const std::string& name) {
   if (name == "glossy-dbrdf") {
-    const GgxBrdf lobe(0.1, 0.1, Rgb(1), Rgb(0));
-    std::vector<double> p(91);
-    for (int j = 0; j < 91; ++j) p[j] = lobe.D(SphericalDirection(j * M_PI / 180, 0));
     DBrdfParams params;
-    params.p_h = HalfVectorTable::Isotropic(p);
-    params.p_h.Normalize();
+    params.p_h = HalfVectorTable::Ggx(0.1);
     params.c = Rgb(0.25, 0.2, 0.15);
     params.f0 = 0.9;
     return std::make_shared<DBrdf>(params);

@@ -11,7 +11,6 @@
 
 #include "basis/error.h"
 #include "brdf/dbrdf.h"
-#include "brdf/ggx.h"
 #include "brdf/lambertian.h"
 #include "brdf/material_spec.h"
 
@@ -145,12 +144,8 @@ Environment SmallSource() {
 }
 
 DBrdf GlossyDBrdf() {
-  const GgxBrdf lobe(0.15, 0.15, Rgb(1), Rgb(0));
-  std::vector<double> p(91);
-  for (int j = 0; j < 91; ++j) p[j] = lobe.D(SphericalDirection(j * M_PI / 180, 0));
   DBrdfParams params;
-  params.p_h = HalfVectorTable::Isotropic(p);
-  params.p_h.Normalize();
+  params.p_h = HalfVectorTable::Ggx(0.15);
   params.c = Rgb(0.25, 0.2, 0.15);
   params.f0 = 0.9;
   params.kd = Rgb(0.05, 0.1, 0.2);
