@@ -165,12 +165,12 @@ Environment SmoothLobe() {
   return Environment(std::move(image));
 }
 
-// Unbiasedness: frame `frames - 1` of a turning map (0.2 rad per frame), averaged over 160 seeds,
-// against a MIS reference (16 runs of 2^13 samples per pixel at the pixel centres), on the four
+// Unbiasedness: frame `frames - 1` of a turning map (0.2 rad per frame), averaged over 120 seeds,
+// against a MIS reference (16 runs of 2^12 samples per pixel at the pixel centres), on the four
 // quadrants of a 12-pixel ball and each RGB channel: each mean over a quadrant's pixels and the
 // seeds must be within 4.5 combined standard errors of the reference (12 statistics; with the
 // reference's standard error estimated from 16 runs, |t| > 4.5 has probability ~4e-4 each). Per-quadrant means rather than per-pixel ones: their
-// distribution over seeds is close to normal, so the standard error estimated from 160 seeds is
+// distribution over seeds is close to normal, so the standard error estimated from 120 seeds is
 // trustworthy.
 void ExpectUnbiased(BallSampler sampler, const Environment& base, int frames) {
   const DBrdf brdf = GlossyDBrdf();
@@ -204,12 +204,12 @@ void ExpectUnbiased(BallSampler sampler, const Environment& base, int frames) {
   BallOptions ref_options;
   ref_options.size = size;
   ref_options.jitter = false;
-  ref_options.spp = 1 << 13;
+  ref_options.spp = 1 << 12;
   for (int r = 0; r < 16; ++r) {
     ref_options.seed = 99 + r;
     refs.push_back(region_means(RenderBall(brdf, &last, ref_options)));
   }
-  for (int s = 0; s < 160; ++s) {
+  for (int s = 0; s < 120; ++s) {
     RelightOptions options;
     options.ball.size = size;
     options.ball.spp = 4;
@@ -234,7 +234,7 @@ void ExpectUnbiased(BallSampler sampler, const Environment& base, int frames) {
 TEST(Relight, SirIsUnbiased) { ExpectUnbiased(BallSampler::kSir, SmallSource(), 1); }
 // SMC after 3 transitions. Its estimate is unbiased under any map, but under SmallSource the
 // incremental weights are heavy-tailed (a source that moves by more than its size between frames
-// lands on a particle only rarely, with a weight up to 1200), so 160 seeds cannot estimate its
+// lands on a particle only rarely, with a weight up to 1200), so 120 seeds cannot estimate its
 // standard error; the smooth map keeps the test's statistics sound (docs/preview.md).
 TEST(Relight, SmcIsUnbiasedAfterSeveralFrames) {
   ExpectUnbiased(BallSampler::kSmc, SmoothLobe(), 4);
