@@ -322,9 +322,10 @@ void MakeRglTensors(const Brdf& brdf, const RglExportOptions& options, RglExport
       // interpolation then follows it instead of overshooting. The variation term is there for
       // measured materials, whose ndf comes from retro-reflection: blue-acrylic's highlight falls
       // 20x within 0.5 deg of the mirror direction, yet the visible normals put 95% of their mass
-      // more than 1 deg from the normal (the ndf's diffuse floor), and f_r / ndf varies there by up to 2x (the lobe at oblique
-      // w_o is not the retro-reflection's). Without it the whole highlight lay within the first
-      // of the 31 columns of the sample grid (docs/formats.md).
+      // more than 1 deg from the normal (the ndf's diffuse floor), while the stored f_r / ndf
+      // varies within the highlight by up to 2x (the lobe at oblique w_o is not the
+      // retro-reflection's). Without the term the highlight (theta_m < 0.3 deg) lay within the
+      // first column of a 32 x 32 sample grid, with it it spans 3-6 (docs/formats.md).
       std::vector<double> visible(static_cast<size_t>(vn) * vn), spread(visible.size());
       double visible_sum = 0, spread_sum = 0;
       for (int y = 0; y < vn; ++y) {
@@ -354,8 +355,8 @@ void MakeRglTensors(const Brdf& brdf, const RglExportOptions& options, RglExport
         const double v = visible_sum > 0 ? visible[i] / visible_sum : 0.0;
         const double u = spread_sum > 0 ? spread[i] / spread_sum : 0.0;
         const double g = variation_sum > 0 ? variation[i] / variation_sum : 0.0;
-        out.vndf[i] = static_cast<float>(visible_fraction * v + kSpreadFraction * u +
-                                         variation_fraction * g);
+        out.vndf[i] =
+            static_cast<float>(visible_fraction * v + kSpreadFraction * u + variation_fraction * g);
       }
       const BilinearWarp2D warp(vn, vn, out.vndf, {}, true);
       const double sigma_o = sigma.Eval(ThetaToU(theta_o), PhiToU(phi_o));

@@ -132,7 +132,7 @@ void BindPipeline(py::module_& m) {
   m.def("export", &Export, py::arg("source"), py::arg("format"), py::arg("out_path"), py::kw_only(),
         py::arg("clamp_invalid") = false, py::arg("rgl_variant") = "both",
         py::arg("scenes") = py::none(), py::arg("rgl_theta") = 16, py::arg("rgl_phi") = 25,
-        py::arg("rgl_samples") = 32,
+        py::arg("rgl_samples") = 48,
         "Writes a BRDF as `zbrdf export` does (docs/formats.md) and returns its report as a "
         "dict (`zbrdf export --json`; 'files' lists what was written). source: a zbrdf.Brdf or "
         "anything zbrdf.load accepts. format: merl, rgl, sh, dbrdf or brdf-explorer. The "

@@ -27,6 +27,31 @@ TEST(RglFile, WrittenGgxThroughIndependentReader) {
   testing::ExpectAgreement(testing::Compare(spec, dir.File("ggx.bsdf"), 1000));
 }
 
+// Measured glossy materials (bundled MERL networks; the ndf comes from retro-reflection) at the
+// highlight and over the hemisphere, with the default resolutions. Thresholds are issue 18's
+// targets (highlight median <= 5%, uniform median <= 3%); measured: blue-acrylic 1.0% / 0.3%,
+// gold-metallic-paint 0.6% / 1.0%, chrome 0.5% / 0.6% (docs/formats.md; 8.7%, 0.6%, 0.6% at the
+// highlight before the sample-space warp followed the change of f_r). The medians of 900 and
+// 1800 errors have standard errors of a few percent of themselves, far inside the margins.
+void ExpectTrueAtTheHighlight(const std::string& spec) {
+  TempDir dir("rgl_highlight");
+  const auto model = MakeBrdf(spec);
+  const RglExportReport report = WriteRglFile(dir.File("m.bsdf"), *model, {});
+  EXPECT_EQ(report.ndf_source, "retro-reflection (power iteration)");
+  const testing::MedianErrors m = testing::CompareMedians(*model, dir.File("m.bsdf"), 300, 600);
+  EXPECT_LE(m.peak, 0.05) << spec;
+  EXPECT_LE(m.uniform, 0.03) << spec;
+  EXPECT_LE(m.cosine, 0.03) << spec;
+}
+
+TEST(RglFile, BlueAcrylicTrueAtTheHighlight) { ExpectTrueAtTheHighlight("merl:blue-acrylic"); }
+
+TEST(RglFile, GoldMetallicPaintTrueAtTheHighlight) {
+  ExpectTrueAtTheHighlight("merl:gold-metallic-paint");
+}
+
+TEST(RglFile, ChromeTrueAtTheHighlight) { ExpectTrueAtTheHighlight("merl:chrome"); }
+
 TEST(RglBrdf, SamplerDensityIsNormalizedAndMatchesPdf) {
   TempDir dir("rgl_sampling");
   const std::string path = dir.File("m.bsdf");

@@ -35,7 +35,7 @@ int RunExport(const std::vector<std::string>& args) {
               "both")
       .Option("rgl-theta", "N", "rgl: elevation nodes of the view direction", "16")
       .Option("rgl-phi", "N", "rgl: azimuth nodes of the view direction (anisotropic inputs)", "25")
-      .Option("rgl-samples", "N", "rgl: sample grid per view direction (N x N)", "32")
+      .Option("rgl-samples", "N", "rgl: sample grid per view direction (N x N)", "48")
       .Flag("json", "print the export report as JSON")
       .Epilog(
           "Examples:\n"
