@@ -38,7 +38,7 @@ struct RglExportOptions {
   int vndf_resolution_anisotropic = 64;  // the same for anisotropic inputs (25x more slices)
   // luminance and rgb/spectra grids per w_o, both axes. 48 rather than 32 since half of the nodes
   // follow the change of f_r (the highlight): with 32 the body of blue-acrylic lost accuracy
-  // (uniform-pair median 0.31% -> 0.46%), with 48 it is back (0.29%) (docs/formats.md).
+  // (uniform-pair median 0.32% -> 0.49%), with 48 it is back (0.30%) (docs/formats.md).
   int sample_resolution = 48;
   bool clamp_invalid = false;  // write NaN and negative f_r as 0 (counted) instead of failing
   std::string description;     // the file's description field
