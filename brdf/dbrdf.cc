@@ -1,6 +1,7 @@
 #include "brdf/dbrdf.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 
 #include "basis/error.h"
@@ -157,7 +158,19 @@ DBrdf::DBrdf(DBrdfParams params)
     : params_(Validated(std::move(params))),
       cos_theta_nodes_(CosThetaNodes(params_.p_h)),
       cells_(CellWeights(params_.p_h, cos_theta_nodes_), params_.p_h.phi_samples,
-             params_.p_h.theta_samples - 1) {}
+             params_.p_h.theta_samples - 1) {
+  // The half-vector sampler's solid-angle density, constant per cell: its probability over its
+  // solid angle.
+  const HalfVectorTable& table = params_.p_h;
+  cell_density_.resize(static_cast<size_t>(table.theta_samples - 1) * table.phi_samples);
+  for (int j = 0; j + 1 < table.theta_samples; ++j) {
+    const double solid_angle = (cos_theta_nodes_[j] - cos_theta_nodes_[j + 1]) * table.PhiStep();
+    for (int k = 0; k < table.phi_samples; ++k) {
+      cell_density_[static_cast<size_t>(j) * table.phi_samples + k] =
+          cells_.CellProbability(k, j) / solid_angle;
+    }
+  }
+}
 
 Rgb DBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
   if (w_i.z <= 0 || w_o.z <= 0) return {};
@@ -171,11 +184,17 @@ Rgb DBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
 double DBrdf::HalfVectorPdf(const Vec3& h) const {
   const HalfVectorTable& table = params_.p_h;
   const int theta_cells = table.theta_samples - 1;
-  const int j = std::min(static_cast<int>(SphericalTheta(h) / table.ThetaStep()), theta_cells - 1);
-  const int k =
-      std::min(static_cast<int>(SphericalPhi(h) / table.PhiStep()), table.phi_samples - 1);
-  const double solid_angle = (cos_theta_nodes_[j] - cos_theta_nodes_[j + 1]) * table.PhiStep();
-  return cells_.CellProbability(k, j) / solid_angle;
+  // Cell j holds cos(theta_h) in (cos_theta_nodes_[j + 1], cos_theta_nodes_[j]]: a binary search
+  // of the decreasing cosines instead of acos; an isotropic table needs no azimuth.
+  const auto it = std::upper_bound(cos_theta_nodes_.begin(), cos_theta_nodes_.end(), h.z,
+                                   std::greater<>());
+  const int j = std::clamp(static_cast<int>(it - cos_theta_nodes_.begin()) - 1, 0,
+                           theta_cells - 1);
+  const int k = table.phi_samples == 1 ? 0
+                                       : std::min(static_cast<int>(SphericalPhi(h) /
+                                                                   table.PhiStep()),
+                                                  table.phi_samples - 1);
+  return cell_density_[static_cast<size_t>(j) * table.phi_samples + k];
 }
 
 double DBrdf::SpecularProbability(const Vec3& w_o) const {

@@ -102,6 +102,7 @@ class DBrdf final : public Brdf {
   DBrdfParams params_;
   std::vector<double> cos_theta_nodes_;  // cos(theta_h,j)
   Distribution2D cells_;                 // over (phi cell, theta cell)
+  std::vector<double> cell_density_;     // [j * phi_samples + k]: the sampler's density in cell
 };
 
 }  // namespace zbrdf

@@ -1,6 +1,7 @@
 #include "brdf/proxy_sampler.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 
 namespace zbrdf {
@@ -106,10 +107,13 @@ double HalfVectorProxySampler::CellDensity(const Probe& probe, const Vec3& h) co
   return probe.cell_density[CellOf(h)];
 }
 
-int HalfVectorProxySampler::CellOf(const Vec3& h) {
-  // Cell of theta_h: x = sqrt(theta_h / (pi/2)).
-  const double x = std::sqrt(SphericalTheta(h) / (0.5 * M_PI));
-  return std::clamp(static_cast<int>(x * kCells), 0, kCells - 1);
+int HalfVectorProxySampler::CellOf(const Vec3& h) const {
+  // Cell k holds theta_h in [theta_edges_[k], theta_edges_[k + 1]), i.e. cos(theta_h) in
+  // (cos_edges_[k + 1], cos_edges_[k]]: the first edge below h.z closes h's cell. A binary search
+  // of the decreasing cosines instead of acos (the simulator's transport build calls this for
+  // every glossy sample).
+  const auto it = std::upper_bound(cos_edges_.begin(), cos_edges_.end(), h.z, std::greater<>());
+  return std::clamp(static_cast<int>(it - cos_edges_.begin()) - 1, 0, kCells - 1);
 }
 
 double HalfVectorProxySampler::LobeProbability(const Vec3& w_o) const {

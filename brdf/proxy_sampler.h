@@ -54,7 +54,7 @@ class HalfVectorProxySampler {
   void Bracket(double theta_o_rad, int* k, double* a_k) const;
   Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
   double CellDensity(const Probe& probe, const Vec3& h) const;
-  static int CellOf(const Vec3& h);  // theta_h cell of h (h.z >= 0)
+  int CellOf(const Vec3& h) const;  // theta_h cell of h (h.z >= 0), by its cosine: no acos
   double LobeProbabilityAt(double theta_o_rad) const;
 
   std::vector<double> theta_edges_, cos_edges_;
