@@ -42,7 +42,8 @@ ImageError NoiseCorrectedImageError(const Brdf& a, const Brdf& b, const Environm
   std::optional<BallImage> own_a1, own_b1;
   if (a1 == nullptr) a1 = &own_a1.emplace(RenderBall(a, env, options));
   if (b1 == nullptr) b1 = &own_b1.emplace(RenderBall(b, env, options));
-  // Far from options.seed in PixelRng's sequence, so that the pixel streams do not overlap.
+  // Another seed: PixelRng hashes (seed, pixel), so the second renders are independent of the
+  // first.
   BallOptions second = options;
   second.seed = options.seed + 0x9E3779B97F4A7C15ull;
   const BallImage a2 = RenderBall(a, env, second), b2 = RenderBall(b, env, second);

@@ -64,6 +64,18 @@ Proposal Propose(const Brdf& brdf, const Frame& frame, const Vec3& w_o, const En
   return p;
 }
 
+// The candidates' density: the mixture q = a p_b + (1 - a) p_e (relight.h).
+double MixturePdf(double share, double pdf_brdf, double pdf_env) {
+  return share * pdf_brdf + (1.0 - share) * pdf_env;
+}
+
+// The bridge g_b = p_b m_prev^(1-b) m_cur^b between frames, over q: an SMC move's weight.
+double BridgeWeight(double b, double share, double pdf_brdf, double pdf_env, double m_prev,
+                    double m_cur) {
+  return pdf_brdf * std::pow(m_prev, 1.0 - b) * std::pow(m_cur, b) /
+         MixturePdf(share, pdf_brdf, pdf_env);
+}
+
 struct PixelContext {
   const Brdf* brdf;
   Frame frame;
@@ -110,7 +122,7 @@ Rgb Sir(const PixelContext& ctx, const Light& light, PixelRng& rng,
     const Proposal& c = candidates[j];
     if (!c.valid) continue;
     const double g = light.Floored(c.radiance) * c.pdf_brdf;
-    const double q = share * c.pdf_brdf + (1.0 - share) * c.pdf_env;
+    const double q = MixturePdf(share, c.pdf_brdf, c.pdf_env);
     weights[j] = g / q;
     sum += weights[j];
   }
@@ -195,8 +207,7 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
     for (int k = 0; k < n; ++k) {
       const Cache& c = cache[k];
       const double pdf_brdf = particles[k].pdf_brdf;
-      const double w_current = pdf_brdf * std::pow(c.m_prev, 1.0 - b) * std::pow(c.m_cur, b) /
-                               (share * pdf_brdf + (1.0 - share) * c.pdf_env);
+      const double w_current = BridgeWeight(b, share, pdf_brdf, c.pdf_env, c.m_prev, c.m_cur);
       double w_sum = w_current;
       Proposal kept;
       double kept_m_prev = 0, kept_m_cur = 0;
@@ -207,8 +218,7 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
         if (!p.valid) continue;
         const double m_prev = previous.Floored(previous.env->Radiance(p.d));
         const double m_cur = current.Floored(p.radiance);
-        const double w = p.pdf_brdf * std::pow(m_prev, 1.0 - b) * std::pow(m_cur, b) /
-                         (share * p.pdf_brdf + (1.0 - share) * p.pdf_env);
+        const double w = BridgeWeight(b, share, p.pdf_brdf, p.pdf_env, m_prev, m_cur);
         w_sum += w;
         // Reservoir choice: the new proposal replaces the kept one with probability w / w_sum.
         if (rng.Uniform() * w_sum < w) {
