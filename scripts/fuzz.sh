@@ -7,7 +7,8 @@
 # Environment: ZBRDF_FUZZ_JOBS (targets at a time, 2), ZBRDF_FUZZ_BUILD_DIR (build-fuzz),
 # ZBRDF_FUZZ_SEED (libFuzzer's -seed; 0, the default, draws a new one each run),
 # ZBRDF_FUZZ_RUNS_FILE (lines "target count": run that many inputs instead of SECONDS, stopping
-# after 2 x SECONDS at the latest. The test command uses fuzz/ci_runs.txt).
+# after 2 x SECONDS at the latest. The test command uses fuzz/ci_runs.txt), ZBRDF_FUZZ_BUILD_ONLY
+# (1: build the targets and stop; the test command builds them in the background this way).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -38,6 +39,10 @@ cmake -S . -B "$build" "${generator[@]}" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_CO
   -DZBRDF_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" --target zbrdf_fuzzers -j "$jobs"
 build_s=$((SECONDS - start))
+if [[ ${ZBRDF_FUZZ_BUILD_ONLY:-0} == 1 ]]; then
+  echo "fuzz: built the targets in ${build_s} s (ZBRDF_FUZZ_BUILD_ONLY=1: not running them)"
+  exit 0
+fi
 
 if (($# > 0)); then
   targets=("$@")

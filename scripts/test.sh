@@ -3,9 +3,26 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+# The fuzz stage's clang build (below) starts now, in the background and at idle priority
+# (SCHED_IDLE: it runs only on a core that the main build and the tests leave idle, e.g. while
+# tests wait for Slurm daemons, browsers or simulated network loss), in a session of its own so
+# that it can be stopped as a whole if this script ends early. Its output: build-fuzz/background-build.log.
+idle=(nice -n 19)
+if chrt --idle 0 true 2>/dev/null; then idle=(chrt --idle 0); fi
+mkdir -p build-fuzz
+ZBRDF_FUZZ_BUILD_ONLY=1 setsid -w "${idle[@]}" bash scripts/fuzz.sh >build-fuzz/background-build.log 2>&1 &
+fuzz_build=$!
+trap 'kill -- -"$fuzz_build" 2>/dev/null || kill "$fuzz_build" 2>/dev/null || true' EXIT
 bash scripts/build.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 ctest --test-dir build --output-on-failure -j "$jobs" "$@"
+if ! wait "$fuzz_build"; then
+  cat build-fuzz/background-build.log >&2
+  echo "test: the fuzz targets did not build (build-fuzz/background-build.log above)" >&2
+  exit 1
+fi
+trap - EXIT
+cat build-fuzz/background-build.log
 # Then every reader of untrusted input under libFuzzer for a bounded time (docs/fuzzing.md):
 # a clang build in build-fuzz/, each target for the input count in fuzz/ci_runs.txt (about 20 s
 # each on 2 cores, at most 2 x ZBRDF_FUZZ_SECONDS) with a fixed seed, so that every machine does
