@@ -5,14 +5,18 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 # The fuzz stage's clang build (below) starts now, in the background and at idle priority
 # (SCHED_IDLE: it runs only on a core that the main build and the tests leave idle, e.g. while
-# tests wait for Slurm daemons, browsers or simulated network loss), in a session of its own so
-# that it can be stopped as a whole if this script ends early. Its output: build-fuzz/background-build.log.
+# tests wait for Slurm daemons, browsers or simulated network loss). It stays in this session:
+# where the kernel groups scheduling by session (autogroup), a new session would get an equal
+# share of the CPU whatever its priority. Job control gives it a process group of its own, which
+# is stopped as a whole if this script ends early. Its output: build-fuzz/background-build.log.
 idle=(nice -n 19)
 if chrt --idle 0 true 2>/dev/null; then idle=(chrt --idle 0); fi
 mkdir -p build-fuzz
-ZBRDF_FUZZ_BUILD_ONLY=1 setsid -w "${idle[@]}" bash scripts/fuzz.sh >build-fuzz/background-build.log 2>&1 &
+set -m
+ZBRDF_FUZZ_BUILD_ONLY=1 "${idle[@]}" bash scripts/fuzz.sh </dev/null >build-fuzz/background-build.log 2>&1 &
 fuzz_build=$!
-trap 'kill -- -"$fuzz_build" 2>/dev/null || kill "$fuzz_build" 2>/dev/null || true' EXIT
+set +m
+trap 'kill -- -"$fuzz_build" 2>/dev/null || true' EXIT
 bash scripts/build.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 ctest --test-dir build --output-on-failure -j "$jobs" "$@"
