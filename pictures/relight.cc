@@ -98,7 +98,8 @@ Vec3 Direction(const RelightParticle& p) { return {p.w[0], p.w[1], p.w[2]}; }
 Rgb Ratio(const RelightParticle& p) { return {p.ratio[0], p.ratio[1], p.ratio[2]}; }
 
 struct Counters {
-  int64_t evaluations = 0, sir_starts = 0, resamplings = 0, proposed = 0, accepted = 0;
+  int64_t evaluations = 0, sir_starts = 0, carried = 0, resamplings = 0, proposed = 0,
+          accepted = 0;
   double ess_fraction_sum = 0;
   int64_t ess_pixels = 0;
 };
@@ -142,16 +143,19 @@ Rgb Sir(const PixelContext& ctx, const Light& light, PixelRng& rng,
       ++counters.evaluations;
     }
     estimate += ratio * c.radiance / light.Floored(c.radiance);
-    if (!out.empty()) Store(c.w, c.pdf_brdf, ratio, 1.0 / n, &out[k]);
+    if (!out.empty()) {
+      Store(c.w, c.pdf_brdf, ratio, 1.0 / n, &out[k]);
+      out[k].light = static_cast<float>(light.Floored(c.radiance));
+    }
   }
   return estimate * (*z / n);
 }
 
-// One SMC frame for one pixel (relight.h): particles from `previous`'s target to `current`'s.
-// Returns false (and leaves the estimate unset) when every particle lost its weight.
-bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& current,
-              PixelRng& rng, std::span<RelightParticle> particles, double* z, Rgb* estimate,
-              Counters& counters) {
+// One frame of kSmcBridges for one pixel (relight.h): particles from `previous`'s target to
+// `current`'s. Returns false (and leaves the estimate unset) when every particle lost its weight.
+bool BridgesFrame(const PixelContext& ctx, const Light& previous, const Light& current,
+                  PixelRng& rng, std::span<RelightParticle> particles, double* z, Rgb* estimate,
+                  Counters& counters) {
   const int n = ctx.n, bridges = ctx.options->bridges;
   const double share = ctx.options->brdf_candidate_share;
   struct Cache {
@@ -253,6 +257,85 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
   return true;
 }
 
+// One kSmc frame for one pixel (relight.h): a pool of M fresh candidates and the N particles of
+// the previous frame, resampled into N particles by the balance-heuristic weights. Returns false
+// (and leaves the estimate unset) when nothing in the pool carries weight.
+bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& current,
+              PixelRng& rng, std::span<RelightParticle> particles, double* z, Rgb* estimate,
+              Counters& counters) {
+  const int m = ctx.m, n = ctx.n;
+  const int m_brdf = std::max(1, static_cast<int>(std::lround(
+                                     ctx.options->brdf_candidate_share * m)));
+  const double share = static_cast<double>(m_brdf) / m;
+  const double c = ctx.options->history_weight * m;
+  struct Member {
+    Vec3 w;
+    double pdf_brdf;
+    Rgb radiance;
+    double light;  // Floored(radiance) on this frame
+    int particle;  // the carried particle's index; -1 for a fresh candidate
+  };
+  thread_local std::vector<Member> pool;
+  thread_local std::vector<double> weights;
+  thread_local std::vector<int> picks;
+  thread_local std::vector<RelightParticle> copy;
+  pool.clear();
+  weights.clear();
+  double sum = 0, sum_sq = 0;
+  auto add = [&](const Member& member, double weight) {
+    if (!(weight > 0) || !std::isfinite(weight)) return;
+    pool.push_back(member);
+    weights.push_back(weight);
+    sum += weight;
+    sum_sq += weight * weight;
+  };
+  for (int j = 0; j < m; ++j) {
+    const Proposal p = Propose(*ctx.brdf, ctx.frame, ctx.w_o, *current.env, j < m_brdf, rng);
+    if (!p.valid) continue;
+    const double light = current.Floored(p.radiance);
+    const double g_prev = previous.Floored(previous.env->Radiance(p.d)) * p.pdf_brdf;
+    add({p.w, p.pdf_brdf, p.radiance, light, -1},
+        FreshCandidateWeight(light * p.pdf_brdf, g_prev, MixturePdf(share, p.pdf_brdf, p.pdf_env),
+                             m, c));
+  }
+  for (int k = 0; k < n; ++k) {
+    const RelightParticle& p = particles[k];
+    const Vec3 w = Direction(p);
+    const Rgb radiance = current.env->Radiance(ctx.frame.ToWorld(w));
+    const double light = current.Floored(radiance);
+    add({w, p.pdf_brdf, radiance, light, k},
+        CarriedParticleWeight(light * p.pdf_brdf, static_cast<double>(p.light) * p.pdf_brdf, *z,
+                              n, m, c));
+  }
+  if (!(sum > 0)) return false;
+  counters.ess_fraction_sum += sum * sum / sum_sq / n;
+  ++counters.ess_pixels;
+  ++counters.resamplings;
+  for (double& w : weights) w /= sum;
+  picks.resize(n);
+  SystematicResample(weights, rng.Uniform(), picks);
+  copy.assign(particles.begin(), particles.end());
+  Rgb total, ratio;
+  int evaluated = -1;
+  for (int k = 0; k < n; ++k) {
+    const Member& member = pool[picks[k]];
+    if (member.particle >= 0) {
+      ratio = Ratio(copy[member.particle]);
+      ++counters.carried;
+    } else if (picks[k] != evaluated) {  // systematic picks are sorted: duplicates are adjacent
+      ratio = ctx.brdf->Eval(member.w, ctx.w_o) * (member.w.z / member.pdf_brdf);
+      evaluated = picks[k];
+      ++counters.evaluations;
+    }
+    total += ratio * member.radiance / member.light;
+    Store(member.w, member.pdf_brdf, ratio, 1.0 / n, &particles[k]);
+    particles[k].light = static_cast<float>(member.light);
+  }
+  *z = sum;
+  *estimate = total * (sum / n);
+  return true;
+}
+
 }  // namespace
 
 void RelightOptions::Validate() const {
@@ -261,6 +344,8 @@ void RelightOptions::Validate() const {
   check.AtLeast("candidates", candidates, 0)
       .AtLeast("bridges", bridges, 1)
       .AtLeast("move_candidates", move_candidates, 2)
+      .Require(history_weight > 0 && std::isfinite(history_weight), "history_weight",
+               "must be a positive number (got " + FormatOptionValue(history_weight) + ")")
       .Require(brdf_candidate_share > 0 && brdf_candidate_share <= 1, "brdf_candidate_share",
                "must be in (0, 1]: the BRDF's sampler must propose (got " +
                    FormatOptionValue(brdf_candidate_share) + ")")
@@ -283,6 +368,14 @@ Reweighting ReweightParticles(std::span<double> weights, std::span<const double>
   }
   r.ess = 1.0 / sum_sq;
   return r;
+}
+
+double FreshCandidateWeight(double g_t, double g_prev, double q, int m, double c) {
+  return g_t * g_t / ((m * g_t + c * g_prev) * q);
+}
+
+double CarriedParticleWeight(double g_t, double g_prev, double z_prev, int n, int m, double c) {
+  return c / n * g_t * z_prev / (m * g_t + c * g_prev);
 }
 
 void SystematicResample(std::span<const double> weights, double u, std::span<int> indices) {
@@ -321,7 +414,8 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
     return image;
   }
   const int n = ball_options.spp;
-  const bool smc = options_.sampler == BallSampler::kSmc;
+  const bool bridges = options_.sampler == BallSampler::kSmcBridges;
+  const bool smc = options_.sampler == BallSampler::kSmc || bridges;
   const size_t pixel_count = static_cast<size_t>(size) * size;
   if (smc && particles_.empty()) {
     particles_.resize(pixel_count * n);
@@ -332,8 +426,8 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
   BallImage out;
   out.image = RgbImage(size, size);
   out.coverage.assign(pixel_count, 0);
-  std::atomic<int64_t> pixels{0}, evaluations{0}, sir_starts{0}, resamplings{0}, proposed{0},
-      accepted{0}, ess_pixels{0};
+  std::atomic<int64_t> pixels{0}, evaluations{0}, sir_starts{0}, carried{0}, resamplings{0},
+      proposed{0}, accepted{0}, ess_pixels{0};
   std::atomic<double> ess_sum{0};
   ParallelFor(size, 1, [&](int64_t row_begin, int64_t row_end) {
     Counters counters;
@@ -363,7 +457,10 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
         Rgb estimate;
         bool done = false;
         if (smc && previous_ && z_[i] > 0) {
-          done = SmcFrame(ctx, previous, current, rng, particles, &z_[i], &estimate, counters);
+          done = bridges ? BridgesFrame(ctx, previous, current, rng, particles, &z_[i],
+                                        &estimate, counters)
+                         : SmcFrame(ctx, previous, current, rng, particles, &z_[i], &estimate,
+                                    counters);
         }
         if (!done) {
           double z = 0;
@@ -376,6 +473,7 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
     pixels += row_pixels;
     evaluations += counters.evaluations;
     sir_starts += counters.sir_starts;
+    carried += counters.carried;
     resamplings += counters.resamplings;
     proposed += counters.proposed;
     accepted += counters.accepted;
@@ -390,6 +488,7 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
     stats->pixels = pixels;
     stats->brdf_evaluations = evaluations;
     stats->sir_starts = sir_starts;
+    stats->carried = carried;
     stats->resamplings = resamplings;
     stats->moves_proposed = proposed;
     stats->moves_accepted = accepted;

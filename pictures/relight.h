@@ -18,10 +18,29 @@
 //       proportion to g / q (systematic resampling) and only they evaluate the BRDF:
 //         I = Z (1/N) sum_k f_r cos L / g (w_k),   Z = (1/M) sum_j g / q (w_j),
 //       which is unbiased for every M and N.
-// kSmc  sequential Monte Carlo (Ghosh, Doucet & Heidrich 2006; an SMC sampler after Del Moral,
-//       Doucet & Jasra 2006). A pixel without particles (the first frame, or one whose particles
-//       all lost their weight) starts with kSir. A later frame moves the previous frame's
-//       particles from g_{t-1} to g_t through K geometric bridges g_{t-1}^(1-b) g_t^b,
+// kSmc  sequential Monte Carlo with the particles carried from frame to frame (after Ghosh,
+//       Doucet & Heidrich 2006), weighted as in generalized resampled importance sampling (Lin
+//       et al. 2022). A pixel without particles (the first frame, or one whose pool carries no
+//       weight) starts with kSir. On a later frame the pool is the M fresh candidates of frame t
+//       and the N particles of frame t - 1, each with an unbiased contribution weight (fresh:
+//       1 / q; carried: Z_{t-1} / g_{t-1}), and the two groups share every direction by the
+//       balance heuristic over the frames' targets with confidences M and C = history_weight M:
+//         m_fresh(w) = g_t(w) / D(w) each,  m_carried(w) = (C / N) g_{t-1}(w) / D(w) each,
+//         D = M g_t + C g_{t-1},
+//       so the resampling weights are
+//         fresh   g_t^2 / (D q),   carried   (C / N) g_t Z_{t-1} / D,
+//       Z_t is their sum, and N particles are resampled from the pool in proportion to them
+//       (systematic): I_t = Z_t (1/N) sum_k f_r cos L_t / g_t (w_k), unbiased (the partition
+//       of unity and the contribution weights carry the proof from frame to frame; docs/
+//       preview.md). Where the light did not change, Z_t = (M Z_fresh + C Z_{t-1}) / (M + C):
+//       a running average over frames. Where it changed, a particle whose light left it loses
+//       its weight and a fresh candidate where light appeared takes the whole of it; the
+//       weights are bounded (carried <= Z_{t-1} / N, fresh <= g_t / (M q)), unlike chained
+//       incremental weights. A carried particle needs no BRDF evaluation (f_r cos / p_b is
+//       kept); a fresh candidate costs one more environment lookup (frame t - 1's map).
+// kSmcBridges  the seed paper's scheme, kept for comparison (it loses to SIR everywhere we
+//       measured, docs/preview.md): a later frame moves the previous frame's particles from
+//       g_{t-1} to g_t through K geometric bridges g_{t-1}^(1-b) g_t^b,
 //       b = 1/K, 2/K, ..., 1; at each: reweight by the bridges' ratio, Z *= sum_k W_k inc_k,
 //       resample (systematic) when the effective sample size 1 / sum W_k^2 falls below
 //       ess_threshold N, then one independence Metropolis-Hastings move per particle (proposal
@@ -29,10 +48,11 @@
 //         I_t = Z_t sum_k W_k f_r cos L_t / g_t (w_k)
 //       is unbiased: Z_t is the product of the incremental weights' means, not the path-sampling
 //       (thermodynamic integration) estimate of log(Z_t / Z_{t-1}), whose exponential is biased.
-//       Reweighting needs only environment lookups, and f_r cos / p_b of a particle does not
-//       change between frames, so a frame evaluates the BRDF only where a particle moved.
-//       The eps floor keeps the support of g_t the support of p_b on every frame, which the
-//       chained weights need to stay unbiased when light appears where it was black.
+//       Its error compounds over frames: Z_t's relative variance grows with every transition,
+//       and the incremental weights g_t / g_{t-1} are heavy-tailed when a small source moves.
+//
+// Every sampler's target has the floor eps, which keeps the support of g_t the support of p_b
+// on every frame, as carrying particles between frames needs.
 //
 // A delta material (a perfect mirror) needs no sampling: every sampler returns
 // delta_reflectance L(mirror direction).
@@ -49,7 +69,7 @@
 
 namespace zbrdf {
 
-enum class BallSampler { kMis, kSir, kSmc };
+enum class BallSampler { kMis, kSir, kSmc, kSmcBridges };
 
 struct RelightOptions {
   // size, camera, seed; spp = MIS samples per pixel, or SIR's and SMC's particles per pixel (N).
@@ -58,9 +78,10 @@ struct RelightOptions {
   BallSampler sampler = BallSampler::kSmc;
   int candidates = 0;                   // SIR's candidates per pixel, M; 0: 4 N
   double brdf_candidate_share = 0.5;    // a: the share of candidates drawn from the BRDF, (0, 1]
-  int bridges = 2;                      // SMC: intermediate distributions per frame, K >= 1
-  int move_candidates = 4;              // SMC: J, proposals per move (with the particle), >= 2
-  double ess_threshold = 0.5;           // SMC: resample when ESS < ess_threshold N, [0, 1]
+  double history_weight = 1;            // SMC: C / M, the carried particles' confidence, > 0
+  int bridges = 2;                      // SMC bridges: distributions per frame, K >= 1
+  int move_candidates = 4;              // SMC bridges: J, proposals per move (with the particle)
+  double ess_threshold = 0.5;           // SMC bridges: resample when ESS < ess_threshold N
 
   // Throws InvalidOptions (an InputError) naming every field out of range.
   void Validate() const;
@@ -70,10 +91,11 @@ struct RelightStats {
   int64_t pixels = 0;           // pixels on the ball that were estimated
   int64_t brdf_evaluations = 0;
   int64_t sir_starts = 0;       // pixels (re)started with SIR this frame
-  int64_t resamplings = 0;      // SMC resampling steps (summed over pixels and bridges)
+  int64_t carried = 0;          // SMC: particles resampled from the previous frame's
+  int64_t resamplings = 0;      // SMC: resampling steps (summed over pixels and bridges)
   int64_t moves_proposed = 0, moves_accepted = 0;
-  double mean_ess_fraction = 0;  // SMC: mean over pixels of the last bridge's ESS / N, before
-                                 // resampling
+  double mean_ess_fraction = 0;  // SMC: mean over pixels of the ESS / N of the last weights
+                                 // before resampling (SMC: the pool's, which may exceed 1)
 };
 
 // A pixel's SMC particle (internal; declared here for BallSequence's storage).
@@ -82,6 +104,7 @@ struct RelightParticle {
   float pdf_brdf;  // p_b(w)
   float ratio[3];  // f_r cos(theta_i) / p_b, RGB
   float weight;    // normalized within the pixel
+  float light;     // max_rgb L + eps at w on the frame it was last resampled on (kSmc)
 };
 
 // Renders a sequence of frames of one BRDF seen by one camera. Not thread-safe; each frame is
@@ -116,6 +139,12 @@ struct Reweighting {
   double ess = 0;
 };
 Reweighting ReweightParticles(std::span<double> weights, std::span<const double> incremental);
+
+// kSmc's resampling weights (see above), for targets g_t and g_{t-1} at the direction, fresh
+// candidates' density q, M fresh candidates, N carried particles, confidence C of the carried
+// ones and the previous frame's normalizing constant z_prev.
+double FreshCandidateWeight(double g_t, double g_prev, double q, int m, double c);
+double CarriedParticleWeight(double g_t, double g_prev, double z_prev, int n, int m, double c);
 
 // Systematic resampling (Kitagawa 1996): indices[k] is the cell of (k + u) / N in the cumulative
 // normalized weights, u in [0, 1). Each index i appears floor or ceil of N W_i times.

@@ -22,11 +22,17 @@
 namespace zbrdf {
 namespace {
 
+double StepRadians(const RelightBenchOptions& options) {
+  return options.degrees_per_frame > 0 ? options.degrees_per_frame * M_PI / 180
+                                       : 2.0 * M_PI / options.frames;
+}
+
 const char* SamplerName(BallSampler s) {
   switch (s) {
     case BallSampler::kMis: return "mis";
     case BallSampler::kSir: return "sir";
     case BallSampler::kSmc: return "smc";
+    case BallSampler::kSmcBridges: return "smc-bridges";
   }
   return "?";
 }
@@ -77,9 +83,11 @@ void RelightBenchOptions::Validate() const {
   check.Require(!materials.empty(), "materials", "must name at least one material")
       .InRange("size", size, 8, 1024)
       .InRange("frames", frames, 1, 10000)
+      .InRange("degrees_per_frame", degrees_per_frame, 0.0, 360.0)
       .Require(!budgets.empty(), "budgets", "must list at least one budget")
       .AtLeast("reference_spp", reference_spp, 1)
       .AtLeast("bridges", bridges, 1)
+      .Require(history_weight > 0, "history_weight", "must be positive")
       .Require(ess_threshold >= 0 && ess_threshold <= 1, "ess_threshold", "must be in [0, 1]")
       .Require(!out_dir.empty(), "out_dir", "must name the folder for the results");
   for (int b : budgets) check.AtLeast("budgets", b, 1);
@@ -106,10 +114,10 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
   const Environment base = BenchEnvironment(options.environment);
   std::vector<Environment> frames;
   for (int t = 0; t < options.frames; ++t) {
-    frames.push_back(base.Rotated(2.0 * M_PI * t / options.frames));
+    frames.push_back(base.Rotated(StepRadians(options) * t));
   }
   const std::vector<BallSampler> samplers = {BallSampler::kMis, BallSampler::kSir,
-                                             BallSampler::kSmc};
+                                             BallSampler::kSmc, BallSampler::kSmcBridges};
   const long total_frames = static_cast<long>(options.materials.size()) * options.frames *
                             (2 + static_cast<long>(samplers.size() * options.budgets.size()));
   long done = 0;
@@ -151,6 +159,7 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
         relight.ball.spp = budget;
         relight.ball.seed = options.seed;
         relight.sampler = sampler;
+        relight.history_weight = options.history_weight;
         relight.bridges = options.bridges;
         relight.ess_threshold = options.ess_threshold;
         BallSequence sequence(*brdf, relight);
@@ -183,12 +192,14 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
       const double t_sir = curves[BallSampler::kSir][k].first;
       const double mis = InterpolateLogLog(curves[BallSampler::kMis], t_sir);
       const double smc = InterpolateLogLog(curves[BallSampler::kSmc], t_sir);
+      const double smc_bridges = InterpolateLogLog(curves[BallSampler::kSmcBridges], t_sir);
       auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
       equal_time.push_back({{"material", material}, {"frame_seconds", t_sir},
                             {"sir_budget", options.budgets[k]},
                             {"sir_relative_rmse", curves[BallSampler::kSir][k].second},
                             {"mis_relative_rmse", number(mis)},
-                            {"smc_relative_rmse", number(smc)}});
+                            {"smc_relative_rmse", number(smc)},
+                            {"smc_bridges_relative_rmse", number(smc_bridges)}});
     }
     std::vector<XySeries> series;
     for (BallSampler sampler : samplers) series.push_back({SamplerName(sampler), curves[sampler]});
@@ -225,7 +236,8 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
       {"options",
        {{"materials", options.materials}, {"environment", options.environment},
         {"size", options.size}, {"frames", options.frames}, {"budgets", options.budgets},
-        {"reference_spp", options.reference_spp}, {"bridges", options.bridges},
+        {"reference_spp", options.reference_spp}, {"history_weight", options.history_weight},
+        {"degrees_per_frame", StepRadians(options) * 180 / M_PI}, {"bridges", options.bridges},
         {"ess_threshold", options.ess_threshold}, {"seed", options.seed}}},
       {"summary", summary},
       {"equal_time", equal_time},

@@ -1,9 +1,9 @@
-// `zbrdf preview-bench`: MIS, SIR and SMC on a turntable, error against time (docs/preview.md,
+// `zbrdf preview-bench`: MIS, SIR, SMC and SMC bridges on a turntable, error against time (docs/preview.md,
 // "Relighting: measured").
 //
 // For each material, a turntable of `frames` frames (the environment turned by 360 / frames deg
-// per frame about the vertical axis) is rendered with each sampler at each budget (samples per
-// pixel for MIS, particles per pixel for SIR and SMC, with SIR's 4 N candidates), and every frame
+// per frame about the vertical axis, or degrees_per_frame) is rendered with each sampler at each budget (samples per
+// pixel for MIS, particles per pixel for the others, with 4 N candidates), and every frame
 // is compared with a converged reference (MIS at reference_spp, pixel centres, another seed):
 //   rmse            root mean square over the ball's pixels and RGB of the difference, divided
 //                   by the RMS of the reference (relative), per frame
@@ -11,13 +11,13 @@
 // The reference's own error (two seeds' RMSE / sqrt 2) is reported; it is far below the errors
 // compared at the default settings.
 //
-// Equal time: for each material and each SIR budget, the RMSE of MIS and of SMC at SIR's mean
-// frame time, interpolated on the log-log curve of RMSE against time of their budgets (not
+// Equal time: for each material and each SIR budget, the RMSE of MIS, SMC and SMC bridges at
+// SIR's mean frame time, interpolated on the log-log curve of RMSE against time of their budgets (not
 // extrapolated: outside their measured times the entry is null).
 //
 // Results: DIR/relight-bench.json (rows, summary, equal_time), DIR/relight-bench.csv (one row per
 // material x sampler x budget x frame), DIR/rmse-vs-time.png (log-log, one panel per material),
-// DIR/frames-<material>.png (reference | MIS | SIR | SMC at the middle frame, the largest budget
+// DIR/frames-<material>.png (reference | MIS | SIR | SMC | SMC bridges at the middle frame, the largest budget
 // whose time is within each sampler's range, side by side).
 #pragma once
 
@@ -37,10 +37,12 @@ struct RelightBenchOptions {
   std::string environment = "studio";  // "studio", "sky" or an .exr / .hdr file
   int size = 64;
   int frames = 30;
+  double degrees_per_frame = 0;  // the turn between frames; 0: one whole turn, 360 / frames
   std::vector<int> budgets = {2, 4, 8, 16};
   int reference_spp = 2048;
-  int bridges = 2;
-  double ess_threshold = 0.5;
+  double history_weight = 1;  // SMC
+  int bridges = 2;             // SMC bridges
+  double ess_threshold = 0.5;  // SMC bridges
   uint64_t seed = 1;
   std::string out_dir;
   ProgressCallback progress;

@@ -88,7 +88,8 @@ TEST(Relight, FurnaceLambertianUnderConstantLight) {
   // With every candidate from the BRDF's (cosine-weighted) sampler, each candidate's weight is
   // (L + eps) exactly, and the estimate Z (1/N) sum f cos L / g = albedo L to rounding: each pixel
   // within 1e-6 relative (SMC keeps its particles in single precision), on every frame of a
-  // turning (constant) map, for SIR and SMC.
+  // turning (constant) map, for SIR, SMC and SMC bridges (SMC's pool weights then add up to
+  // Z_t = (M (L + eps) + C Z_{t-1}) / (M + C) = L + eps).
   // With the default mixture, environment candidates (uniform over the sphere) spread the
   // weights: each pixel's relative standard error is about 3% at 256 candidates, and the mean
   // over ~290 interior pixels is within 0.5% (more than 3 standard errors).
@@ -96,7 +97,7 @@ TEST(Relight, FurnaceLambertianUnderConstantLight) {
   const Rgb radiance(2.0, 1.0, 0.5);
   const Rgb expected(0.2 * 2.0, 0.5 * 1.0, 0.8 * 0.5);
   const Environment env = Environment::Constant(radiance);
-  for (BallSampler sampler : {BallSampler::kSir, BallSampler::kSmc}) {
+  for (BallSampler sampler : {BallSampler::kSir, BallSampler::kSmc, BallSampler::kSmcBridges}) {
     for (double share : {1.0, 0.5}) {
       RelightOptions options;
       options.ball.size = 24;
@@ -232,15 +233,102 @@ void ExpectUnbiased(BallSampler sampler, const Environment& base, int frames) {
 
 // SIR under the high-frequency map (a small source 1200 times the room's radiance).
 TEST(Relight, SirIsUnbiased) { ExpectUnbiased(BallSampler::kSir, SmallSource(), 1); }
-// SMC after 3 transitions. Its estimate is unbiased under any map, but under SmallSource the
-// incremental weights are heavy-tailed (a source that moves by more than its size between frames
-// lands on a particle only rarely, with a weight up to 1200), so 120 seeds cannot estimate its
-// standard error; the smooth map keeps the test's statistics sound (docs/preview.md).
+// SMC after 3 transitions, under the high-frequency map: its pool weights are bounded (carried
+// <= Z_{t-1} / N, fresh <= g_t / (M q)), so the source moving by more than its size between
+// frames does not make them heavy-tailed.
 TEST(Relight, SmcIsUnbiasedAfterSeveralFrames) {
-  ExpectUnbiased(BallSampler::kSmc, SmoothLobe(), 4);
+  ExpectUnbiased(BallSampler::kSmc, SmallSource(), 4);
+}
+// SMC bridges after 3 transitions. Its estimate is unbiased under any map, but under SmallSource
+// the incremental weights are heavy-tailed (a source that moves by more than its size between
+// frames lands on a particle only rarely, with a weight up to 1200), so 120 seeds cannot estimate
+// its standard error; the smooth map keeps the test's statistics sound (docs/preview.md).
+TEST(Relight, SmcBridgesIsUnbiasedAfterSeveralFrames) {
+  ExpectUnbiased(BallSampler::kSmcBridges, SmoothLobe(), 4);
 }
 
-TEST(Relight, SmcOnAStillEnvironmentKeepsItsEstimate) {
+TEST(Relight, SmcWeightsMatchAHandComputedCase) {
+  // M = 4 fresh candidates, N = 2 carried particles, C = 4 (history weight 1).
+  // A fresh candidate with g_t = 3, g_{t-1} = 1, q = 2: 3^2 / ((4 * 3 + 4 * 1) * 2) = 9 / 32.
+  EXPECT_DOUBLE_EQ(FreshCandidateWeight(3, 1, 2, 4, 4), 9.0 / 32.0);
+  // A carried particle with g_t = 3, g_{t-1} = 1, Z_{t-1} = 5: (4 / 2) * 3 * 5 / 16 = 15 / 8.
+  EXPECT_DOUBLE_EQ(CarriedParticleWeight(3, 1, 5, 2, 4, 4), 15.0 / 8.0);
+  // Light that left a particle (g_t = 0) takes all its weight; light that appeared at a fresh
+  // candidate (g_{t-1} = 0) gives it the plain SIR weight g_t / (M q).
+  EXPECT_EQ(CarriedParticleWeight(0, 1, 5, 2, 4, 4), 0.0);
+  EXPECT_DOUBLE_EQ(FreshCandidateWeight(3, 0, 2, 4, 4), 3.0 / 8.0);
+  // No history (C = 0): SIR's weights g / (M q).
+  EXPECT_DOUBLE_EQ(FreshCandidateWeight(3, 7, 2, 4, 0), 3.0 / 8.0);
+  // The two groups' balance-heuristic weights are a partition of unity at every direction:
+  // M m_fresh + N m_carried = (M g_t + C g_prev) / D = 1, i.e. with unit contribution weights
+  // (q = 1, Z_{t-1} = g_prev) the weights of M fresh copies and N carried copies of one
+  // direction add up to g_t.
+  for (double g_t : {0.1, 1.0, 30.0}) {
+    for (double g_prev : {0.05, 1.0, 50.0}) {
+      for (double c : {0.5, 4.0, 40.0}) {
+        const int m = 4, n = 3;
+        const double fresh = FreshCandidateWeight(g_t, g_prev, 1.0, m, c);
+        const double carried = CarriedParticleWeight(g_t, g_prev, g_prev, n, m, c);
+        EXPECT_NEAR(m * fresh + n * carried, g_t, 1e-12 * g_t)
+            << g_t << " " << g_prev << " " << c;
+      }
+    }
+  }
+}
+
+TEST(Relight, SmcOnAStillEnvironmentAveragesOverFrames) {
+  // Nothing changes between frames: the carried particles' weights add up to C / (M + C) Z_{t-1}
+  // and the fresh candidates' to M / (M + C) of a new SIR estimate F_t, so with C = M
+  //   Z_t = F_t / 2 + Z_{t-1} / 2,  Z_0 = F_0,
+  // a running average whose variance at frame 6 is sum_{j=1..6} 4^-j + 4^-6 = 0.3335 of frame
+  // 0's. For a Lambertian material f cos / g = albedo L / (L + eps) is constant to 1e-3, so a
+  // pixel's estimate is Z_t times a constant and its variance over seeds follows Z_t's. Summed
+  // over ~250 pixels of 40 seeds each, the ratio of variances has a relative standard error of
+  // about 2%: it must be within 0.30-0.37, and the mean must not move (1%).
+  const LambertianBrdf brdf(Rgb(0.5));
+  const Environment env = SmoothLobe();
+  const int size = 20, seeds = 40;
+  std::vector<std::vector<Rgb>> first, later;
+  std::vector<uint8_t> coverage;
+  for (int s = 0; s < seeds; ++s) {
+    RelightOptions options;
+    options.ball.size = size;
+    options.ball.spp = 4;
+    options.ball.seed = 500 + s;
+    options.sampler = BallSampler::kSmc;
+    BallSequence sequence(brdf, options);
+    RelightStats stats;
+    first.push_back(sequence.Render(env, &stats).image.pixels);
+    EXPECT_GT(stats.sir_starts, 0);
+    BallImage image;
+    for (int t = 1; t <= 6; ++t) image = sequence.Render(env, &stats);
+    EXPECT_EQ(stats.sir_starts, 0);
+    EXPECT_GT(stats.carried, 0);
+    later.push_back(image.image.pixels);
+    if (s == 0) coverage = image.coverage;
+  }
+  double var_first = 0, var_later = 0, mean_first = 0, mean_later = 0;
+  for (size_t i = 0; i < first[0].size(); ++i) {
+    if (!coverage[i]) continue;
+    double a = 0, a2 = 0, b = 0, b2 = 0;
+    for (int s = 0; s < seeds; ++s) {
+      const double x = first[s][i].Luminance(), y = later[s][i].Luminance();
+      a += x;
+      a2 += x * x;
+      b += y;
+      b2 += y * y;
+    }
+    mean_first += a;
+    mean_later += b;
+    var_first += (a2 - a * a / seeds) / (seeds - 1);
+    var_later += (b2 - b * b / seeds) / (seeds - 1);
+  }
+  EXPECT_GT(var_later / var_first, 0.30);
+  EXPECT_LT(var_later / var_first, 0.37);
+  EXPECT_NEAR(mean_later / mean_first, 1.0, 0.01);
+}
+
+TEST(Relight, SmcBridgesOnAStillEnvironmentKeepsItsEstimate) {
   // Nothing changes between frames: the incremental weights are 1, the normalizing constant is
   // carried unchanged, and MH moves keep the particles distributed as the target, so frame 5's
   // mean over the ball equals frame 0's within Monte Carlo error (relative 2%: ~300 pixels of
@@ -250,7 +338,7 @@ TEST(Relight, SmcOnAStillEnvironmentKeepsItsEstimate) {
   RelightOptions options;
   options.ball.size = 24;
   options.ball.spp = 32;
-  options.sampler = BallSampler::kSmc;
+  options.sampler = BallSampler::kSmcBridges;
   BallSequence sequence(brdf, options);
   RelightStats stats;
   const BallImage first = sequence.Render(env, &stats);
@@ -291,6 +379,9 @@ TEST(Relight, RejectsBadOptions) {
   EXPECT_THROW({ BallSequence s(brdf, options); }, InputError);
   options = {};
   options.bridges = 0;
+  EXPECT_THROW({ BallSequence s(brdf, options); }, InputError);
+  options = {};
+  options.history_weight = 0;
   EXPECT_THROW({ BallSequence s(brdf, options); }, InputError);
   options = {};
   options.ball.light_direction = Vec3{0, 0, 1};

@@ -51,6 +51,7 @@ TEST(PreviewAnimation, TurntableWritesFramesAnAnimatedPngAndItsRecord) {
   EXPECT_NEAR(record["per_frame"][2]["rotation_deg"].get<double>(), 180.0, 1e-9);
   EXPECT_GT(record["per_frame"][0]["sir_starts"].get<int>(), 0);   // frame 0 starts with SIR
   EXPECT_EQ(record["per_frame"][1]["sir_starts"].get<int>(), 0);   // then carries particles
+  EXPECT_GT(record["per_frame"][1]["particles_carried"].get<int>(), 0);
   const nlohmann::json printed = nlohmann::json::parse(testing::ReadFile(dir.File("out.txt")));
   EXPECT_EQ(printed["animation"], out + "/animation.png");
 }
@@ -113,7 +114,7 @@ TEST(PreviewAnimation, FlagsThatDoNotGoTogetherAreRefusedByName) {
   EXPECT_NE(error_of("--turntable 3 --light dir:30,0 --out " + dir.File("a"))
                 .find("an animation needs an environment"),
             std::string::npos);
-  EXPECT_NE(error_of("--sampler pmc --out " + dir.File("b.png")).find("mis, sir or smc"),
+  EXPECT_NE(error_of("--sampler pmc --out " + dir.File("b.png")).find("mis, sir, smc or smc-bridges"),
             std::string::npos);
   EXPECT_NE(error_of("--sampler sir --sampling brdf --out " + dir.File("c.png"))
                 .find("--sampling brdf goes with --sampler mis"),

@@ -29,7 +29,8 @@ BallSampler ParseSampler(const std::string& name) {
   if (name == "mis") return BallSampler::kMis;
   if (name == "sir") return BallSampler::kSir;
   if (name == "smc") return BallSampler::kSmc;
-  throw InputError("--sampler must be mis, sir or smc (got '" + name + "')");
+  if (name == "smc-bridges") return BallSampler::kSmcBridges;
+  throw InputError("--sampler must be mis, sir, smc or smc-bridges (got '" + name + "')");
 }
 
 // The numbered environment maps of --environment-sequence, in name order.
@@ -61,7 +62,9 @@ int RunPreview(const std::vector<std::string>& args) {
                  "a small bright sun). Environment light is importance-sampled: --sampler mis\n"
                  "combines material and environment samples (MIS); sir resamples candidates from\n"
                  "both by environment x BRDF (bidirectional importance sampling); smc carries\n"
-                 "those samples from frame to frame (sequential Monte Carlo). --turntable N and\n"
+                 "those samples from frame to frame (sequential Monte Carlo: lower error than sir\n"
+                 "where the light changes little between frames, e.g. 1-3 degrees of turn;\n"
+                 "smc-bridges is the seed paper's variant, for comparison). --turntable N and\n"
                  "--environment-sequence DIR render an animation: numbered PNG frames and\n"
                  "animation.png (an animated PNG browsers play). docs/preview.md describes the\n"
                  "frame, the samplers, the sky and the tone curve.");
@@ -70,12 +73,14 @@ int RunPreview(const std::vector<std::string>& args) {
               "the tone-mapped image to write; for an animation the folder (default "
               "SESSION/turntable for a session's turntable)")
       .Option("exr", "FILE.exr|DIR", "also write the linear RGB image (a folder for an animation)")
-      .Option("sampler", "S", "mis, sir or smc (see above; smc pays off across frames)", "mis")
+      .Option("sampler", "S", "mis, sir, smc or smc-bridges (see above)", "mis")
       .Option("candidates", "M", "sir, smc: candidates per pixel (default 4 x --spp)")
-      .Option("bridges", "K", "smc: intermediate distributions between frames", "2")
-      .Option("move-candidates", "J", "smc: proposals per Metropolis-Hastings move", "4")
-      .Option("ess-threshold", "F", "smc: resample when the effective sample size < F x --spp",
-              "0.5")
+      .Option("history-weight", "H",
+              "smc: the carried particles' weight against the M fresh candidates", "1")
+      .Option("bridges", "K", "smc-bridges: intermediate distributions between frames", "2")
+      .Option("move-candidates", "J", "smc-bridges: proposals per Metropolis-Hastings move", "4")
+      .Option("ess-threshold", "F",
+              "smc-bridges: resample when the effective sample size < F x --spp", "0.5")
       .Option("turntable", "N", "an animation of N frames, the environment turned once around")
       .Option("environment-sequence", "DIR",
               "an animation whose frames are lit by the numbered .exr / .hdr maps in DIR")
@@ -123,6 +128,7 @@ int RunPreview(const std::vector<std::string>& args) {
   relight.ball = setup.ball;
   relight.sampler = sampler;
   relight.candidates = cl.Has("candidates") ? cl.GetInt("candidates", 1, 1 << 20) : 0;
+  relight.history_weight = cl.GetDouble("history-weight", 1e-3, 1e3);
   relight.bridges = cl.GetInt("bridges", 1, 64);
   relight.move_candidates = cl.GetInt("move-candidates", 2, 1024);
   relight.ess_threshold = cl.GetDouble("ess-threshold", 0, 1);
@@ -192,11 +198,14 @@ int RunPreview(const std::vector<std::string>& args) {
                           {"sir_starts", stats.sir_starts}};
     if (turntable) row["rotation_deg"] = rotation_step * t * 180 / M_PI;
     if (!turntable) row["environment"] = files[t];
-    if (sampler == BallSampler::kSmc) {
+    if (sampler == BallSampler::kSmc || sampler == BallSampler::kSmcBridges) {
       row["resamplings"] = stats.resamplings;
+      row["mean_ess_fraction"] = stats.mean_ess_fraction;
+    }
+    if (sampler == BallSampler::kSmc) row["particles_carried"] = stats.carried;
+    if (sampler == BallSampler::kSmcBridges) {
       row["moves_accepted"] = stats.moves_accepted;
       row["moves_proposed"] = stats.moves_proposed;
-      row["mean_ess_fraction"] = stats.mean_ess_fraction;
     }
     frame_rows.push_back(row);
     progress.Update({"render", t + 1, frames, "frames"});

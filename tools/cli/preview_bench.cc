@@ -14,7 +14,8 @@ namespace {
 int RunPreviewBench(const std::vector<std::string>& args) {
   CommandLine cl("preview-bench",
                  "Renders a turntable (the environment turned about the vertical axis) of each\n"
-                 "material with each relighting sampler (mis, sir, smc; zbrdf preview --sampler)\n"
+                 "material with each relighting sampler (mis, sir, smc, smc-bridges; zbrdf\n"
+                 "preview --sampler)\n"
                  "at each budget, and compares every frame with a converged reference: relative\n"
                  "RMSE against seconds per frame, and each sampler's error at SIR's frame time\n"
                  "(equal time). Writes DIR/relight-bench.json, .csv, rmse-vs-time.png and\n"
@@ -25,14 +26,19 @@ int RunPreviewBench(const std::vector<std::string>& args) {
               "glossy-dbrdf,diffuse")
       .Option("environment", "E", "studio, sky or an .exr / .hdr lat-long map", "studio")
       .Option("size", "N", "image width and height in pixels", "64")
-      .Option("frames", "N", "turntable frames (one turn)", "30")
-      .Option("budgets", "LIST", "samples (MIS) or particles (SIR, SMC) per pixel", "2,4,8,16")
+      .Option("frames", "N", "turntable frames (one turn unless --degrees-per-frame)", "30")
+      .Option("degrees-per-frame", "D", "the environment's turn between frames; 0: 360 / frames",
+              "0")
+      .Option("budgets", "LIST", "samples (MIS) or particles (the others) per pixel", "2,4,8,16")
       .Option("reference-spp", "N", "MIS samples per pixel of the reference", "2048")
-      .Option("bridges", "K", "SMC: intermediate distributions per frame", "2")
-      .Option("ess-threshold", "F", "SMC: resample when ESS < F x particles", "0.5")
+      .Option("history-weight", "H", "SMC: the carried particles' weight (zbrdf preview)", "1")
+      .Option("bridges", "K", "SMC bridges: intermediate distributions per frame", "2")
+      .Option("ess-threshold", "F", "SMC bridges: resample when ESS < F x particles", "0.5")
       .Option("seed", "N", "seed", "1")
       .Flag("json", "print the summary and the equal-time table as JSON");
-  cl.Epilog("Example:\n  zbrdf preview-bench --out results/relight --frames 30\n");
+  cl.Epilog(
+      "Examples:\n  zbrdf preview-bench --out results/relight --frames 30\n"
+      "  zbrdf preview-bench --out results/relight-slow --frames 30 --degrees-per-frame 1\n");
   if (!cl.Parse(args)) return 0;
   if (!cl.Has("out")) throw InputError("--out is required: the folder for the results");
   RelightBenchOptions options;
@@ -41,6 +47,7 @@ int RunPreviewBench(const std::vector<std::string>& args) {
   options.environment = cl.Get("environment");
   options.size = cl.GetInt("size", 8, 1024);
   options.frames = cl.GetInt("frames", 1, 10000);
+  options.degrees_per_frame = cl.GetDouble("degrees-per-frame", 0.0, 360.0);
   options.budgets.clear();
   for (const std::string& b : cl.GetList("budgets")) {
     char* end = nullptr;
@@ -51,6 +58,7 @@ int RunPreviewBench(const std::vector<std::string>& args) {
     options.budgets.push_back(static_cast<int>(v));
   }
   options.reference_spp = cl.GetInt("reference-spp", 1, 1 << 20);
+  options.history_weight = cl.GetDouble("history-weight", 1e-3, 1e3);
   options.bridges = cl.GetInt("bridges", 1, 64);
   options.ess_threshold = cl.GetDouble("ess-threshold", 0, 1);
   options.seed = static_cast<uint64_t>(cl.GetInt("seed", 0, 1 << 30));
