@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -203,8 +204,11 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
     }
     std::vector<XySeries> series;
     for (BallSampler sampler : samplers) series.push_back({SamplerName(sampler), curves[sampler]});
+    char turn[64];
+    std::snprintf(turn, sizeof(turn), " frames, %.3g deg per frame",
+                  StepRadians(options) * 180 / M_PI);
     panels.push_back(DrawLogLogPanel(material + ": turntable of " +
-                                         std::to_string(options.frames) + " frames",
+                                         std::to_string(options.frames) + turn,
                                      "seconds per frame", "relative RMSE", series));
     // Frames at the middle of the turntable: each sampler at the budget whose time is closest
     // to SIR's at the largest budget.

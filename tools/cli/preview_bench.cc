@@ -73,15 +73,15 @@ int RunPreviewBench(const std::vector<std::string>& args) {
               << "\n";
     return 0;
   }
-  std::printf("%-14s %8s %6s %12s %10s\n", "material", "sampler", "budget", "s/frame",
+  std::printf("%-14s %11s %6s %12s %10s\n", "material", "sampler", "budget", "s/frame",
               "rel. RMSE");
   for (const auto& row : result["summary"]) {
-    std::printf("%-14s %8s %6d %12.4f %10.4f\n", row["material"].get<std::string>().c_str(),
+    std::printf("%-14s %11s %6d %12.4f %10.4f\n", row["material"].get<std::string>().c_str(),
                 row["sampler"].get<std::string>().c_str(), row["budget"].get<int>(),
                 row["mean_frame_seconds"].get<double>(), row["mean_relative_rmse"].get<double>());
   }
-  std::printf("\nequal time (at SIR's frame time):\n%-14s %10s %10s %10s %10s\n", "material",
-              "s/frame", "MIS", "SIR", "SMC");
+  std::printf("\nequal time (at SIR's frame time):\n%-14s %10s %10s %10s %10s %12s\n",
+              "material", "s/frame", "MIS", "SIR", "SMC", "SMC bridges");
   for (const auto& row : result["equal_time"]) {
     auto text = [](const nlohmann::json& v) {
       char b[32];
@@ -92,9 +92,10 @@ int RunPreviewBench(const std::vector<std::string>& args) {
       }
       return std::string(b);
     };
-    std::printf("%-14s %10.4f %10s %10s %10s\n", row["material"].get<std::string>().c_str(),
+    std::printf("%-14s %10.4f %10s %10s %10s %12s\n", row["material"].get<std::string>().c_str(),
                 row["frame_seconds"].get<double>(), text(row["mis_relative_rmse"]).c_str(),
-                text(row["sir_relative_rmse"]).c_str(), text(row["smc_relative_rmse"]).c_str());
+                text(row["sir_relative_rmse"]).c_str(), text(row["smc_relative_rmse"]).c_str(),
+                text(row["smc_bridges_relative_rmse"]).c_str());
   }
   std::printf("wrote %s/relight-bench.json, rmse-vs-time.png, frames-*.png\n",
               options.out_dir.c_str());
