@@ -4,7 +4,7 @@
 // Each pixel of the ball estimates the radiance it reflects toward the camera,
 //   I_t = integral f_r(w_i, w_o) L_t(w_i) cos(theta_i) dw_i,
 // under frame t's environment L_t, with w_o the view direction through the pixel centre (no
-// jitter: a pixel's particles belong to one w_o across frames). The three samplers:
+// jitter: a pixel's particles belong to one w_o across frames). The samplers:
 //
 // kMis  per sample one BRDF and one environment sample, power heuristic (RenderBall).
 // kSir  sampling-importance-resampling, the bidirectional importance sampling of Burke, Ghosh &
@@ -31,8 +31,8 @@
 //         fresh   g_t^2 / (D q),   carried   (C / N) g_t Z_{t-1} / D,
 //       Z_t is their sum, and N particles are resampled from the pool in proportion to them
 //       (systematic): I_t = Z_t (1/N) sum_k f_r cos L_t / g_t (w_k), unbiased (the partition
-//       of unity and the contribution weights carry the proof from frame to frame; docs/
-//       preview.md). Where the light did not change, Z_t = (M Z_fresh + C Z_{t-1}) / (M + C):
+//       of unity and the contribution weights carry the proof from frame to frame;
+//       docs/preview.md). Where the light did not change, Z_t = (M Z_fresh + C Z_{t-1}) / (M + C):
 //       a running average over frames. Where it changed, a particle whose light left it loses
 //       its weight and a fresh candidate where light appeared takes the whole of it; the
 //       weights are bounded (carried <= Z_{t-1} / N, fresh <= g_t / (M q)), unlike chained
