@@ -76,6 +76,12 @@ double BridgeWeight(double b, double share, double pdf_brdf, double pdf_env, dou
          MixturePdf(share, pdf_brdf, pdf_env);
 }
 
+// How many of a pixel's M candidates the BRDF's sampler proposes (the first ones; at least
+// one), from the share a of relight.h.
+int BrdfCandidates(double share, int m) {
+  return std::max(1, static_cast<int>(std::lround(share * m)));
+}
+
 struct PixelContext {
   const Brdf* brdf;
   Frame frame;
@@ -109,8 +115,7 @@ struct Counters {
 Rgb Sir(const PixelContext& ctx, const Light& light, PixelRng& rng,
         std::span<RelightParticle> out, double* z, Counters& counters) {
   const int m = ctx.m, n = ctx.n;
-  const int m_brdf = std::max(1, static_cast<int>(std::lround(
-                                     ctx.options->brdf_candidate_share * m)));
+  const int m_brdf = BrdfCandidates(ctx.options->brdf_candidate_share, m);
   const double share = static_cast<double>(m_brdf) / m;
   thread_local std::vector<Proposal> candidates;
   thread_local std::vector<double> weights;
@@ -264,8 +269,7 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
               PixelRng& rng, std::span<RelightParticle> particles, double* z, Rgb* estimate,
               Counters& counters) {
   const int m = ctx.m, n = ctx.n;
-  const int m_brdf = std::max(1, static_cast<int>(std::lround(
-                                     ctx.options->brdf_candidate_share * m)));
+  const int m_brdf = BrdfCandidates(ctx.options->brdf_candidate_share, m);
   const double share = static_cast<double>(m_brdf) / m;
   const double c = ctx.options->history_weight * m;
   struct Member {
@@ -337,6 +341,24 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
 }
 
 }  // namespace
+
+const char* BallSamplerName(BallSampler sampler) {
+  switch (sampler) {
+    case BallSampler::kMis: return "mis";
+    case BallSampler::kSir: return "sir";
+    case BallSampler::kSmc: return "smc";
+    case BallSampler::kSmcBridges: return "smc-bridges";
+  }
+  return "?";
+}
+
+BallSampler BallSamplerFromName(const std::string& name) {
+  for (BallSampler sampler :
+       {BallSampler::kMis, BallSampler::kSir, BallSampler::kSmc, BallSampler::kSmcBridges}) {
+    if (name == BallSamplerName(sampler)) return sampler;
+  }
+  throw InputError("--sampler must be mis, sir, smc or smc-bridges (got '" + name + "')");
+}
 
 void RelightOptions::Validate() const {
   ball.Validate();

@@ -61,6 +61,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "brdf/brdf.h"
@@ -70,6 +71,11 @@
 namespace zbrdf {
 
 enum class BallSampler { kMis, kSir, kSmc, kSmcBridges };
+
+// The samplers' names on the command line and in records: "mis", "sir", "smc", "smc-bridges".
+const char* BallSamplerName(BallSampler sampler);
+// The sampler of that name; throws InputError naming every sampler for any other.
+BallSampler BallSamplerFromName(const std::string& name);
 
 struct RelightOptions {
   // size, camera, seed; spp = MIS samples per pixel, or SIR's and SMC's particles per pixel (N).

@@ -28,16 +28,6 @@ double StepRadians(const RelightBenchOptions& options) {
                                        : 2.0 * M_PI / options.frames;
 }
 
-const char* SamplerName(BallSampler s) {
-  switch (s) {
-    case BallSampler::kMis: return "mis";
-    case BallSampler::kSir: return "sir";
-    case BallSampler::kSmc: return "smc";
-    case BallSampler::kSmcBridges: return "smc-bridges";
-  }
-  return "?";
-}
-
 std::shared_ptr<const Brdf> BenchMaterial(const std::string& name) {
   if (name == "glossy-dbrdf") {
     DBrdfParams params;
@@ -173,17 +163,17 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
           const double rmse = RelativeRmse(image, reference[t]);
           seconds_sum += seconds;
           rmse_sum += rmse;
-          rows.push_back({{"material", material}, {"sampler", SamplerName(sampler)},
+          rows.push_back({{"material", material}, {"sampler", BallSamplerName(sampler)},
                           {"budget", budget}, {"frame", t}, {"seconds", seconds},
                           {"relative_rmse", rmse}});
-          csv << material << "," << SamplerName(sampler) << "," << budget << "," << t << ","
+          csv << material << "," << BallSamplerName(sampler) << "," << budget << "," << t << ","
               << seconds << "," << rmse << "\n";
           if (t == middle) middle_frames[sampler][budget] = std::move(image);
           tick();
         }
         const double mean_s = seconds_sum / options.frames, mean_rmse = rmse_sum / options.frames;
         curves[sampler].push_back({mean_s, mean_rmse});
-        summary.push_back({{"material", material}, {"sampler", SamplerName(sampler)},
+        summary.push_back({{"material", material}, {"sampler", BallSamplerName(sampler)},
                            {"budget", budget}, {"mean_frame_seconds", mean_s},
                            {"mean_relative_rmse", mean_rmse},
                            {"reference_noise", reference_noise}});
@@ -203,7 +193,7 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
                             {"smc_bridges_relative_rmse", number(smc_bridges)}});
     }
     std::vector<XySeries> series;
-    for (BallSampler sampler : samplers) series.push_back({SamplerName(sampler), curves[sampler]});
+    for (BallSampler sampler : samplers) series.push_back({BallSamplerName(sampler), curves[sampler]});
     char turn[64];
     std::snprintf(turn, sizeof(turn), " frames, %.3g deg per frame",
                   StepRadians(options) * 180 / M_PI);
@@ -225,7 +215,7 @@ nlohmann::json RunRelightBench(const RelightBenchOptions& options) {
       }
       tiles.push_back(ToneMap(middle_frames[sampler][options.budgets[best]].image));
       char label[64];
-      std::snprintf(label, sizeof(label), "%s %d (%.1f ms)", SamplerName(sampler),
+      std::snprintf(label, sizeof(label), "%s %d (%.1f ms)", BallSamplerName(sampler),
                     options.budgets[best], 1e3 * curves[sampler][best].first);
       labels.push_back(label);
     }

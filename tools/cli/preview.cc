@@ -25,14 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-BallSampler ParseSampler(const std::string& name) {
-  if (name == "mis") return BallSampler::kMis;
-  if (name == "sir") return BallSampler::kSir;
-  if (name == "smc") return BallSampler::kSmc;
-  if (name == "smc-bridges") return BallSampler::kSmcBridges;
-  throw InputError("--sampler must be mis, sir, smc or smc-bridges (got '" + name + "')");
-}
-
 // The numbered environment maps of --environment-sequence, in name order.
 std::vector<std::string> SequenceFiles(const std::string& dir) {
   if (!fs::is_directory(dir)) {
@@ -104,7 +96,7 @@ int RunPreview(const std::vector<std::string>& args) {
   if (turntable && sequence_dir) {
     throw InputError("--turntable and --environment-sequence exclude each other: give one");
   }
-  const BallSampler sampler = ParseSampler(cl.Get("sampler"));
+  const BallSampler sampler = BallSamplerFromName(cl.Get("sampler"));
   if (sampler != BallSampler::kMis && cl.Get("sampling") != "mis") {
     throw InputError("--sampling " + cl.Get("sampling") + " goes with --sampler mis only; " +
                      "--sampler " + cl.Get("sampler") + " chooses its own samples");

@@ -15,11 +15,11 @@ int RunPreviewBench(const std::vector<std::string>& args) {
   CommandLine cl("preview-bench",
                  "Renders a turntable (the environment turned about the vertical axis) of each\n"
                  "material with each relighting sampler (mis, sir, smc, smc-bridges; zbrdf\n"
-                 "preview --sampler)\n"
-                 "at each budget, and compares every frame with a converged reference: relative\n"
-                 "RMSE against seconds per frame, and each sampler's error at SIR's frame time\n"
-                 "(equal time). Writes DIR/relight-bench.json, .csv, rmse-vs-time.png and\n"
-                 "frames-<material>.png. docs/preview.md has the measured table.");
+                 "preview --sampler) at each budget, and compares every frame with a converged\n"
+                 "reference: relative RMSE against seconds per frame, and each sampler's error at\n"
+                 "SIR's frame time (equal time). Writes DIR/relight-bench.json, .csv,\n"
+                 "rmse-vs-time.png and frames-<material>.png. docs/preview.md has the measured\n"
+                 "table.");
   cl.Option("out", "DIR", "folder for the results")
       .Option("materials", "LIST",
               "material inputs (see zbrdf preview --help); built in: glossy-dbrdf, diffuse",
