@@ -56,16 +56,20 @@ Environment Environment::FromFile(const std::string& path, double rotation_rad,
   return Environment(ReadEnvironmentImage(path, negative_pixels), rotation_rad);
 }
 
+// Direction() has (x, z) = sin(theta) (sin phi, -cos phi), and a turn r adds r to phi.
+TurnAboutY::TurnAboutY(double turn_rad)
+    : cos_turn(std::cos(turn_rad)), sin_turn(std::sin(turn_rad)) {}
+
 Environment Environment::Rotated(double rotation_rad) const {
   Environment copy = *this;
   copy.rotation_rad_ += rotation_rad;
-  if (Dot(sun_, sun_) > 0) {
-    // The sun turns with the map: Direction() has (x, z) = sin(theta) (sin phi, -cos phi), and a
-    // rotation r adds r to phi.
-    const double c = std::cos(rotation_rad), s = std::sin(rotation_rad);
-    copy.sun_ = {sun_.x * c - sun_.z * s, sun_.y, sun_.z * c + sun_.x * s};
-  }
+  if (Dot(sun_, sun_) > 0) copy.sun_ = TurnAboutY(rotation_rad).Forward(sun_);  // the sun turns too
   return copy;
+}
+
+std::optional<double> Environment::TurnSince(const Environment& earlier) const {
+  if (data_ != earlier.data_) return std::nullopt;
+  return rotation_rad_ - earlier.rotation_rad_;
 }
 
 Environment Environment::Constant(const Rgb& radiance) {

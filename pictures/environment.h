@@ -17,6 +17,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "basis/vec3.h"
@@ -24,6 +25,20 @@
 #include "pictures/image.h"
 
 namespace zbrdf {
+
+// A turn by turn_rad about +y, the way Environment::Rotated turns a map (counter-clockwise seen
+// from above; a direction's phi = atan2(x, -z) grows by turn_rad). A rotation: lengths and solid
+// angles are kept.
+struct TurnAboutY {
+  explicit TurnAboutY(double turn_rad);
+  Vec3 Forward(const Vec3& d) const {
+    return {d.x * cos_turn - d.z * sin_turn, d.y, d.z * cos_turn + d.x * sin_turn};
+  }
+  Vec3 Back(const Vec3& d) const {  // the inverse turn
+    return {d.x * cos_turn + d.z * sin_turn, d.y, d.z * cos_turn - d.x * sin_turn};
+  }
+  double cos_turn = 1, sin_turn = 0;
+};
 
 class Environment {
  public:
@@ -47,6 +62,11 @@ class Environment {
   // image and its sampling tables (no copy): a turntable's frames cost nothing to make.
   Environment Rotated(double rotation_rad) const;
   double rotation_rad() const { return rotation_rad_; }
+  // When this map is `earlier` turned about +y (both Rotated copies of one map), the turn
+  // rotation_rad() - earlier.rotation_rad(): then Radiance(TurnAboutY(turn).Forward(d)) equals
+  // earlier.Radiance(d) for every d, which lets a sampler carry a direction with the light
+  // (pictures/relight.h, kSmc). nullopt for maps that are not copies of one another.
+  std::optional<double> TurnSince(const Environment& earlier) const;
 
   // Radiance arriving from direction d (unit, world frame; d points away from the ball).
   Rgb Radiance(const Vec3& d) const;

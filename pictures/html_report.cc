@@ -1014,7 +1014,7 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
               "</figcaption></figure>\n";
     } else {
       page.notes.push_back("no turntable: zbrdf preview " + dir +
-                           " --turntable 30 --environment studio --sampler sir --spp 16 adds one");
+                           " --turntable 30 --environment studio --sampler smc --spp 16 adds one");
     }
 
     page.sections.push_back("Polar plots");

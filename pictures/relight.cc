@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include "basis/error.h"
 #include "basis/option_checker.h"
@@ -263,10 +264,13 @@ bool BridgesFrame(const PixelContext& ctx, const Light& previous, const Light& c
 }
 
 // One kSmc frame for one pixel (relight.h): a pool of M fresh candidates and the N particles of
-// the previous frame, resampled into N particles by the balance-heuristic weights. Returns false
-// (and leaves the estimate unset) when nothing in the pool carries weight.
+// the previous frame, resampled into N particles by the balance-heuristic weights. With a turn,
+// the carried particles are turned with the light and g_{t-1} is taken at the turned-back
+// direction. Returns false (and leaves the estimate unset) when nothing in the pool carries
+// weight.
 bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& current,
-              PixelRng& rng, std::span<RelightParticle> particles, double* z, Rgb* estimate,
+              const std::optional<TurnAboutY>& turn, PixelRng& rng,
+              std::span<RelightParticle> particles, double* z, Rgb* estimate,
               Counters& counters) {
   const int m = ctx.m, n = ctx.n;
   const int m_brdf = BrdfCandidates(ctx.options->brdf_candidate_share, m);
@@ -278,6 +282,7 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
     Rgb radiance;
     double light;  // Floored(radiance) on this frame
     int particle;  // the carried particle's index; -1 for a fresh candidate
+    bool evaluate; // f_r cos / p_b is not known yet (a fresh candidate or a turned particle)
   };
   thread_local std::vector<Member> pool;
   thread_local std::vector<double> weights;
@@ -297,18 +302,36 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
     const Proposal p = Propose(*ctx.brdf, ctx.frame, ctx.w_o, *current.env, j < m_brdf, rng);
     if (!p.valid) continue;
     const double light = current.Floored(p.radiance);
-    const double g_prev = previous.Floored(previous.env->Radiance(p.d)) * p.pdf_brdf;
-    add({p.w, p.pdf_brdf, p.radiance, light, -1},
+    // The carried group's target at this direction: g_{t-1} where a carried particle would have
+    // come from. Turned back, the light is this frame's (Environment::TurnSince); the BRDF's
+    // density is taken there.
+    double g_prev = 0;
+    if (turn) {
+      const Vec3 w_back = ctx.frame.ToLocal(turn->Back(p.d));
+      if (w_back.z > 0) g_prev = previous.Floored(p.radiance) * ctx.brdf->Pdf(ctx.w_o, w_back);
+    } else {
+      g_prev = previous.Floored(previous.env->Radiance(p.d)) * p.pdf_brdf;
+    }
+    add({p.w, p.pdf_brdf, p.radiance, light, -1, true},
         FreshCandidateWeight(light * p.pdf_brdf, g_prev, MixturePdf(share, p.pdf_brdf, p.pdf_env),
                              m, c));
   }
   for (int k = 0; k < n; ++k) {
     const RelightParticle& p = particles[k];
-    const Vec3 w = Direction(p);
-    const Rgb radiance = current.env->Radiance(ctx.frame.ToWorld(w));
+    Vec3 w = Direction(p);
+    double pdf_brdf = p.pdf_brdf;
+    Vec3 d = ctx.frame.ToWorld(w);
+    if (turn) {
+      d = Normalize(turn->Forward(d));
+      w = ctx.frame.ToLocal(d);
+      if (w.z <= 0) continue;
+      pdf_brdf = ctx.brdf->Pdf(ctx.w_o, w);
+      if (!(pdf_brdf > 0)) continue;
+    }
+    const Rgb radiance = current.env->Radiance(d);
     const double light = current.Floored(radiance);
-    add({w, p.pdf_brdf, radiance, light, k},
-        CarriedParticleWeight(light * p.pdf_brdf, static_cast<double>(p.light) * p.pdf_brdf, *z,
+    add({w, pdf_brdf, radiance, light, k, turn.has_value()},
+        CarriedParticleWeight(light * pdf_brdf, static_cast<double>(p.light) * p.pdf_brdf, *z,
                               n, m, c));
   }
   if (!(sum > 0)) return false;
@@ -323,9 +346,9 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
   int evaluated = -1;
   for (int k = 0; k < n; ++k) {
     const Member& member = pool[picks[k]];
-    if (member.particle >= 0) {
+    if (member.particle >= 0) ++counters.carried;
+    if (!member.evaluate) {
       ratio = Ratio(copy[member.particle]);
-      ++counters.carried;
     } else if (picks[k] != evaluated) {  // systematic picks are sorted: duplicates are adjacent
       ratio = ctx.brdf->Eval(member.w, ctx.w_o) * (member.w.z / member.pdf_brdf);
       evaluated = picks[k];
@@ -445,6 +468,11 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
   }
   const Light current = MakeLight(env);
   const Light previous = previous_ ? MakeLight(*previous_) : Light{};
+  // kSmc carries its particles with the light when this map is the previous one turned.
+  std::optional<TurnAboutY> turn;
+  if (previous_) {
+    if (const std::optional<double> r = env.TurnSince(*previous_); r && *r != 0) turn.emplace(*r);
+  }
   BallImage out;
   out.image = RgbImage(size, size);
   out.coverage.assign(pixel_count, 0);
@@ -481,8 +509,8 @@ BallImage BallSequence::Render(const Environment& env, RelightStats* stats) {
         if (smc && previous_ && z_[i] > 0) {
           done = bridges ? BridgesFrame(ctx, previous, current, rng, particles, &z_[i],
                                         &estimate, counters)
-                         : SmcFrame(ctx, previous, current, rng, particles, &z_[i], &estimate,
-                                    counters);
+                         : SmcFrame(ctx, previous, current, turn, rng, particles, &z_[i],
+                                    &estimate, counters);
         }
         if (!done) {
           double z = 0;

@@ -38,6 +38,16 @@
 //       weights are bounded (carried <= Z_{t-1} / N, fresh <= g_t / (M q)), unlike chained
 //       incremental weights. A carried particle needs no BRDF evaluation (f_r cos / p_b is
 //       kept); a fresh candidate costs one more environment lookup (frame t - 1's map).
+//       A turntable (frame t's map is frame t - 1's turned by r about +y,
+//       Environment::TurnSince) carries the particles with the light instead: a particle at
+//       w moves to T(w), w turned by r (a rotation: Jacobian 1, so its contribution weight
+//       Z_{t-1} / g_{t-1}(w) is unchanged), and the carried group's target at a direction y is
+//       g_{t-1}(T^-1(y)), in the weights above for fresh and carried members alike (so they
+//       still sum to one at every y). L_{t-1}(T^-1(y)) = L_t(y), so this costs a BRDF density
+//       at T^-1(y) per fresh candidate, and a density and, when picked, an evaluation per
+//       carried particle, instead of the previous map's lookup. This is the shift mapping of GRIS (the
+//       motion-vector reuse of ReSTIR) with the turn as the motion. A particle turned below
+//       the horizon drops out.
 // kSmcBridges  the seed paper's scheme, kept for comparison (it loses to SIR everywhere we
 //       measured, docs/preview.md): a later frame moves the previous frame's particles from
 //       g_{t-1} to g_t through K geometric bridges g_{t-1}^(1-b) g_t^b,
@@ -121,7 +131,8 @@ class BallSequence {
   BallSequence(const Brdf& brdf, RelightOptions options);
 
   // The next frame under env. SMC carries its particles from the previous call's environment
-  // (which the sequence keeps a cheap copy of).
+  // (which the sequence keeps a cheap copy of), turned with the light when env is that map
+  // turned (Environment::Rotated copies of one map; see kSmc).
   BallImage Render(const Environment& env, RelightStats* stats = nullptr);
   int frames_rendered() const { return frame_; }
 

@@ -29,7 +29,7 @@ echo
 ./build/zbrdf fit "$out" --model auto --figure "$out/figure-3-3.png"
 echo
 ./build/zbrdf preview "$out" --out "$out/ball.png"
-./build/zbrdf preview "$out" --turntable 30 --environment studio --sampler sir --spp 16
+./build/zbrdf preview "$out" --turntable 30 --environment studio --sampler smc --spp 16
 ./build/zbrdf report "$out"
 echo
 echo "Results in $out/:"

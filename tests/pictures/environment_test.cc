@@ -98,6 +98,36 @@ TEST(Environment, RotatedMapTurnsItsRadianceAboutTheVerticalAxis) {
   EXPECT_NEAR(Length(sun), 1.0, 1e-12);
 }
 
+TEST(Environment, TurnSinceAnEarlierCopyCarriesDirectionsWithTheLight) {
+  // TurnAboutY against directions of known longitude: phi = atan2(x, -z) grows by the turn.
+  const Vec3 ahead{0, 0, -1};  // phi = 0
+  const Vec3 quarter = TurnAboutY(M_PI / 2).Forward(ahead);
+  EXPECT_NEAR(quarter.x, 1.0, 1e-15);
+  EXPECT_NEAR(quarter.z, 0.0, 1e-15);
+  const Vec3 tilted = Normalize(Vec3{0.3, 0.5, -0.8});
+  const Vec3 turned_tilted = TurnAboutY(0.4).Forward(tilted);
+  EXPECT_NEAR(std::atan2(turned_tilted.x, -turned_tilted.z), std::atan2(0.3, 0.8) + 0.4, 1e-14);
+  EXPECT_EQ(turned_tilted.y, tilted.y);
+  EXPECT_NEAR(Length(turned_tilted), 1.0, 1e-15);
+
+  const Environment env(Pattern());
+  const Environment earlier = env.Rotated(0.25);
+  const Environment later = earlier.Rotated(-0.9).Rotated(0.2);
+  ASSERT_TRUE(later.TurnSince(earlier).has_value());
+  const double turn = *later.TurnSince(earlier);
+  EXPECT_NEAR(turn, -0.7, 1e-15);
+  testing::Rng rng(11);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 d = testing::RandomUpperDirection(rng);
+    ASSERT_EQ(later.Radiance(TurnAboutY(turn).Forward(d)), earlier.Radiance(d)) << k;
+    const Vec3 back = TurnAboutY(turn).Back(TurnAboutY(turn).Forward(d));
+    ASSERT_NEAR(Length(back - d), 0.0, 1e-15) << k;
+  }
+  EXPECT_EQ(*env.TurnSince(env), 0.0);
+  // Two maps built from equal images are not copies of one another: no turn is claimed.
+  EXPECT_FALSE(Environment(Pattern()).TurnSince(env).has_value());
+}
+
 TEST(Environment, MeanRadianceIsTheSolidAngleMeanOfTheLargestChannel) {
   EXPECT_NEAR(Environment::Constant(Rgb(0.2, 0.7, 0.4)).mean_max_radiance(), 0.7, 1e-14);
   // Only the top row lit (value 1, height 4): a cap down to 45 deg, solid angle

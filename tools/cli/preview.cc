@@ -54,8 +54,8 @@ int RunPreview(const std::vector<std::string>& args) {
                  "a small bright sun). Environment light is importance-sampled: --sampler mis\n"
                  "combines material and environment samples (MIS); sir resamples candidates from\n"
                  "both by environment x BRDF (bidirectional importance sampling); smc carries\n"
-                 "those samples from frame to frame (sequential Monte Carlo: lower error than sir\n"
-                 "where the light changes little between frames, e.g. 1-3 degrees of turn;\n"
+                 "those samples from frame to frame, on a turntable turned with the light\n"
+                 "(sequential Monte Carlo: the lowest error per second of an animation;\n"
                  "smc-bridges is the seed paper's variant, for comparison). --turntable N and\n"
                  "--environment-sequence DIR render an animation: numbered PNG frames and\n"
                  "animation.png (an animated PNG browsers play). docs/preview.md describes the\n"
@@ -84,7 +84,7 @@ int RunPreview(const std::vector<std::string>& args) {
       "  zbrdf preview merl:gold-metallic-paint --out gold.png\n"
       "  zbrdf preview results/blue-acrylic --light dir:40,60 --out ball.png --exr ball.exr\n"
       "  zbrdf preview fit-dbrdf.exr --environment studio.hdr --spp 256 --size 512 --out ball.png\n"
-      "  zbrdf preview results/blue-acrylic --turntable 30 --environment studio --sampler sir "
+      "  zbrdf preview results/blue-acrylic --turntable 30 --environment studio --sampler smc "
       "--spp 16\n\n" +
       BrdfInputHelp());
   if (!cl.Parse(args)) return 0;
