@@ -50,12 +50,16 @@ class HalfVectorProxySampler {
   const std::vector<double>& theta_edges() const { return theta_edges_; }
 
  private:
-  // The two probes around theta_o and their weights a_j.
-  void Bracket(double theta_o_rad, int* k, double* a_k) const;
+  // The two probes k, k + 1 around a viewing angle and their lobes' weights a_j P_j.
+  struct Mixture {
+    int k = 0;
+    double pk = 0, pk1 = 0;
+  };
+  Mixture MixtureAt(double theta_o_rad) const;
+  double LobeDensity(const Mixture& m, const Vec3& h) const;  // the mixed p_h(h)
+  double PdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;
   Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
-  double CellDensity(const Probe& probe, const Vec3& h) const;
   int CellOf(const Vec3& h) const;  // theta_h cell of h (h.z >= 0), by its cosine: no acos
-  double LobeProbabilityAt(double theta_o_rad) const;
 
   std::vector<double> theta_edges_, cos_edges_;
   std::vector<Probe> probes_;
