@@ -292,6 +292,18 @@ struct SamplingCheckOptions {
   CubatureOptions integral_cubature{1e-13, 1e-7, 2, 10};
 };
 
+// For densities that are piecewise constant over cells of theta_h (a measured or fitted p(h)
+// table, the half-vector proxy's 128 cells): they jump at every cell edge, where adaptive
+// cubature refines slowly. 1e-4 relative per bin is ample against the ~1/sqrt(300) sampling noise
+// of a bin, and 1e-6 per normalization cell resolves the edges to ~1e-4 of the total, so a 1e-3
+// bound on the normalization still catches a wrong factor or exponent (>= 1e-2).
+inline SamplingCheckOptions PiecewiseDensityCubature() {
+  SamplingCheckOptions options;
+  options.cubature = {1e-10, 1e-4, 2, 8};
+  options.integral_cubature = {1e-11, 1e-6, 2, 9};
+  return options;
+}
+
 // integral Pdf(w_o, w) dw over the sphere, in sin(alpha / 2) coordinates about -w_o, where the
 // half-vector samplers' 1 / |w + w_o| singularity becomes a bounded integrand; an 8 x 16 grid of
 // cells integrated adaptively.

@@ -34,20 +34,10 @@ class ProxySampled final : public Brdf {
   HalfVectorProxySampler proxy_;
 };
 
-// The proxy's density jumps at its 128 cell edges in theta_h, where adaptive cubature refines
-// slowly: 1e-4 relative per bin is ample against the ~1/sqrt(300) sampling noise of a bin, and
-// 1e-6 per normalization cell keeps the integral's error below its 1e-3 bound.
-testing::SamplingCheckOptions ProxyCubature() {
-  testing::SamplingCheckOptions options;
-  options.cubature = {1e-10, 1e-4, 2, 8};
-  options.integral_cubature = {1e-11, 1e-6, 2, 9};
-  return options;
-}
-
 // Bins about the mirror direction in sin(alpha / 2): the chrome lobe (tens of mrad) spans a few
 // of them instead of a sliver of one (cos theta, phi) bin.
 testing::SamplingCheckOptions AboutMirror(const Vec3& w_o) {
-  testing::SamplingCheckOptions options = ProxyCubature();
+  testing::SamplingCheckOptions options = testing::PiecewiseDensityCubature();
   options.bins =
       testing::AxisFrame(Vec3{-w_o.x, -w_o.y, w_o.z}, testing::AxisFrame::Radial::kSinHalfAngle);
   return options;
@@ -63,9 +53,9 @@ TEST(HalfVectorProxySamplerTest, SamplingMatchesPdfForSharpAndBroadMaterials) {
     EXPECT_SAMPLING_MATCHES_PDF(*chrome, w_o, 111, 1e-3, AboutMirror(w_o));
   }
   const auto fabric = NbrdfBrdf::FromName("red-fabric");
-  EXPECT_SAMPLING_MATCHES_PDF(*fabric, SphericalDirection(0.5, 2.0), 112, 1e-3, ProxyCubature());
+  EXPECT_SAMPLING_MATCHES_PDF(*fabric, SphericalDirection(0.5, 2.0), 112, 1e-3, testing::PiecewiseDensityCubature());
   const ProxySampled ggx(std::make_unique<GgxBrdf>(0.1, 0.1, Rgb(0.5), Rgb(0.1)));
-  EXPECT_SAMPLING_MATCHES_PDF(ggx, SphericalDirection(0.8, 5.0), 113, 1e-3, ProxyCubature());
+  EXPECT_SAMPLING_MATCHES_PDF(ggx, SphericalDirection(0.8, 5.0), 113, 1e-3, testing::PiecewiseDensityCubature());
 }
 
 // Per-sample relative standard deviation of f cos / pdf (luminance) for w_o, with n samples.
