@@ -59,6 +59,15 @@ function(zbrdf_test_folder name)
     return()
   endif()
   add_executable(${name} ${sources})
+  # Unity build: eight test files per compiler run, so that the templates and inline functions
+  # they share (GoogleTest's, Eigen's, the libraries' headers) are instantiated and compiled once
+  # per batch instead of once per file. Measured on tests/brdf with the precompiled header: 51 s
+  # of CPU -> 37 s. Each file keeps its own names: its anonymous namespace holds a namespace
+  # named ZBRDF_TEST_FILE_ID, which CMake defines to a value unique to the file, so two files'
+  # helpers (a kZone, a Fitter()) never meet. A new test file follows the same pattern:
+  #   namespace zbrdf { namespace { namespace ZBRDF_TEST_FILE_ID { ... } } }
+  set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8
+                                           UNITY_BUILD_UNIQUE_ID ZBRDF_TEST_FILE_ID)
   target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
   # The test binaries share one precompiled header (the first test folder's): unlike the
   # libraries, they are compiled with the same flags and macros. -pthread (which defines

@@ -23,6 +23,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -268,5 +269,6 @@ TEST(AdaptiveCapture, GlossyKeepsItsBandsAndResumesIdentically) {
   fs::remove_all(parts);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -23,6 +23,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 using testing::SimulatedRig;
@@ -373,5 +374,6 @@ TEST(CaptureJob, ASessionIsWhatItsSessionJsonAndJournalSay) {
   for (const std::string& dir : {a, orphan, fresh.moved_aside, b, torn}) fs::remove_all(dir);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

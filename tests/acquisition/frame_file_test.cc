@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 Frame RandomFrame(int width, int height, int bits, uint32_t seed) {
   Frame f;
@@ -191,5 +192,6 @@ TEST(FrameFile, FramesOfEarlierVersionsWithoutTheChecksumStillRead) {
   EXPECT_EQ(DecodeFrameFile(old, 40, 30, "old frame"), f.data);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

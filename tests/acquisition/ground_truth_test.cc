@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // The material as it is, except that it does not declare itself isotropic: the ground truth then
 // integrates every cell at its own 2 x 2 points, an independent second method for the row
@@ -126,5 +127,6 @@ TEST(GroundTruthTest, CacheReturnsWhatItStoredAndKeysOnTheMaterial) {
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // A small sensor: 12 bits, black 64 DN, 2.5 e-/DN, 10 e- read noise (the thesis camera's).
 RigCalibration Sensor(int width, int height) {
@@ -135,5 +136,6 @@ TEST(Hdr, BadFramesAreNamedInputErrors) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -13,6 +13,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 PlanOptions Options(int order) {
   PlanOptions o;
@@ -156,5 +157,6 @@ TEST(Plan, DefaultZoneShrinksAndRoundsInward) {
   EXPECT_THROW(DefaultZone(DegToRad(10), DegToRad(10.5), 0.5, &lo, &hi), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

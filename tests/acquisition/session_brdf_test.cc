@@ -14,6 +14,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::TempDir;
 
@@ -65,5 +66,6 @@ TEST(SessionBrdf, AnEmptySessionNamesTheCommandsAndItsTrueMaterial) {
   EXPECT_NE(message.find("ggx:alpha=0.3"), std::string::npos) << message;
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -16,6 +16,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -407,5 +408,6 @@ TEST(Session, TemporaryFilesOfKilledRunsAreRemovedOnResume) {
   fs::remove_all(dir);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -16,6 +16,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -338,5 +339,6 @@ TEST(PixelToGrid, SmoothFieldGivesCellAverages) {
   EXPECT_LT(worst, 0.83 * DegToRad(1.0)) << worst;
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -19,6 +19,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -286,5 +287,6 @@ TEST_F(AtomicFileTest, CacheEntriesHaveOneWriterAndReadersSeeAWholeFile) {
   EXPECT_FALSE(fs::exists(path + ".writing"));
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

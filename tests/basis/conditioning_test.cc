@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 ConditioningOptions Options(double min_deg, double max_deg, int order, TargetKind target) {
   ConditioningOptions o;
@@ -136,5 +137,6 @@ TEST(ErrorOverBand, EmptyBandsAndVanishingFunctionsGiveZero) {
   EXPECT_EQ(ErrorOverBand(target, zero, y, 0.1, 1.0).Relative(), 0);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

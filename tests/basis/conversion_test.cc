@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::RandomCoefficients;
 
@@ -201,5 +202,6 @@ TEST(Conversion, HigherTargetOrderThanDataIsReportedAsUnderdetermined) {
   EXPECT_EQ(conversion.diagnostics().underdetermined_components, 6 + 18);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using LD = long double;
 
@@ -180,5 +181,6 @@ TEST(Gram, ZonalBasisGramIsIdentityBlockwise) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -8,6 +8,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 struct Inner {
   int n = 1;
@@ -73,5 +74,6 @@ TEST(OptionChecker, ValuesInRangeAndTheirEdgesPass) {
   EXPECT_NO_THROW(check.ThrowIfInvalid());
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -11,6 +11,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Each index in exactly one chunk, chunks disjoint, within [0, count) and at most grain long,
 // for any grain and thread count (one thread included).
@@ -84,5 +85,6 @@ TEST(ParallelForEach, AnItemReturningFalseStopsItsThread) {
   EXPECT_EQ(count.load(), 2);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -8,6 +8,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(GaussLegendre, MatchesTabulatedLowOrderRules) {
   const GaussLegendreRule r2 = GaussLegendre(2);
@@ -81,5 +82,6 @@ TEST(ProductRule, SolidAngleOfTheZone) {
   EXPECT_NEAR(sum, zone.solid_angle_sr(), 1e-14);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

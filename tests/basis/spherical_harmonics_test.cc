@@ -11,6 +11,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 Vec3 RandomDirection(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0, 1);
@@ -109,5 +110,6 @@ TEST(SphericalHarmonics, PoleIsWellDefined) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // All strings over `alphabet` of length <= max_length.
 std::vector<std::string> AllStrings(const std::string& alphabet, size_t max_length) {
@@ -90,5 +91,6 @@ TEST(ClosestNames, ClosestFirstWithinAThirdOfTheLengthOrTwo) {
   EXPECT_EQ(ClosestNames("fat", {"fit", "cat", "fat-x"}, 1), std::vector<std::string>({"fit"}));
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

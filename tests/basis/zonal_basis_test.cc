@@ -13,6 +13,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 double MaxDeviationFromIdentity(const Eigen::MatrixXd& g) {
   return (g - Eigen::MatrixXd::Identity(g.rows(), g.cols())).cwiseAbs().maxCoeff();
@@ -153,5 +154,6 @@ TEST(ZonalBasis, RejectsBadZonesAndOrders) {
   EXPECT_THROW(ZonalBasis(Zone::FromDegrees(9, 57), -1), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

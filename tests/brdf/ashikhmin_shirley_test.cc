@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -91,5 +92,6 @@ TEST(AshikhminShirleyTest, RejectsOutOfRangeParameters) {
   EXPECT_THROW(AshikhminShirleyBrdf(Rgb(-0.1), Rgb(0.5), 1, 1), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

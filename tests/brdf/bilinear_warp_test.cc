@@ -13,6 +13,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 std::vector<float> Bumpy(int nx, int ny, double phase) {
   std::vector<float> v(static_cast<size_t>(nx) * ny);
@@ -113,5 +114,6 @@ TEST(BilinearWarp, RejectsBadInput) {
   EXPECT_THROW(BilinearWarp2D(2, 2, std::vector<float>(8, 1.0f), {{1.0f, 1.0f}}, true), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

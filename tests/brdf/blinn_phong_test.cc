@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -72,5 +73,6 @@ TEST(BlinnPhongTest, RejectsOutOfRangeParameters) {
   EXPECT_THROW(BlinnPhongBrdf(Rgb(0.1), Rgb(0.5), std::nan("")), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -17,6 +17,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 using testing::TempDir;
@@ -125,5 +126,6 @@ TEST(BrdfExplorer, ForeignFilesAreNotReadAsData) {
   EXPECT_THROW(ReadBrdfExplorerFile(dir.File("disney.brdf")), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // For f_a - f_b = d (constant over the hemisphere pairs):
 //   (1 / (2 pi)^2) integral integral d^2 cos^2(theta_i) dw_i dw_o = d^2 (2 pi / 3)(2 pi) / (2 pi)^2
@@ -39,5 +40,6 @@ TEST(CosineWeightedL2, GlossyModelsDifferingByALambertianTerm) {
   EXPECT_EQ(same.RelativeMean(), 0.0);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -25,6 +25,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::TempDir;
 
@@ -296,5 +297,6 @@ TEST(BrdfPriorTest, TheBundledPriorReads) {
   EXPECT_GT(prior.atoms.minCoeff(), -1e-30f);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

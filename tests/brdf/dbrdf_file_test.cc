@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 std::string TempPath(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / "zbrdf-dbrdf-file-test";
@@ -81,5 +82,6 @@ TEST(DBrdfFileTest, ADataWindowOffTheOriginIsAnInputError) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

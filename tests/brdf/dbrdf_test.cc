@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -232,11 +233,13 @@ TEST(DBrdfTest, SamplingMatchesPdfFor2DTables) {
                               PiecewiseConstantOptions());
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(DBrdfTest, GgxTableIsTheGgxDistributionNormalized) {
   // Against GgxBrdf::D (the analytic model's own code): the same shape at every node, and
@@ -257,5 +260,6 @@ TEST(DBrdfTest, GgxTableIsTheGgxDistributionNormalized) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

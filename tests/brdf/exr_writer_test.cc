@@ -19,6 +19,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::TempDir;
 
@@ -90,5 +91,6 @@ TEST(TwoPartExrWriter, AnUnwritablePathIsAnInputErrorNamingTheFile) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

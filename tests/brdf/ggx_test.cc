@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -102,5 +103,6 @@ TEST(GgxTest, RejectsOutOfRangeParameters) {
   EXPECT_THROW(GgxBrdf(std::nan(""), 0.1, Rgb(0.04), Rgb(0)), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -16,6 +16,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Presents a model's glossy part as a Brdf, so that the shared sampling checks apply to it.
 class GlossyPart final : public Brdf {
@@ -87,5 +88,6 @@ TEST(GlossySamplingTest, LambertianHasNoGlossyPart) {
   EXPECT_EQ(brdf.GlossyPdf(w_o, SphericalDirection(0.2, 1.0)), 0.0);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -63,5 +64,6 @@ TEST(LambertianTest, RejectsNegativeAndNonFiniteAlbedo) {
   EXPECT_THROW(LambertianBrdf(Rgb(std::nan(""))), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -14,6 +14,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Evaluations of two BRDFs agree exactly at random pairs.
 void ExpectSameBrdf(const Brdf& a, const Brdf& b) {
@@ -167,5 +168,6 @@ TEST(MaterialSpecTest, ShortNamesForTitlesAndFiles) {
   EXPECT_EQ(MaterialShortName("lambert"), "lambert");
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

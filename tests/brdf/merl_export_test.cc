@@ -14,6 +14,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::BinCentre;
 using testing::Lookup;
@@ -69,5 +70,6 @@ TEST(MerlExport, BlinnPhongMatchesAtBinCentres) {
   ExpectMatchesAtBinCentres("blinn-phong:kd=0.2,0.3,0.4,ks=0.5,n=80", 7);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

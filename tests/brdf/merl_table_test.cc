@@ -17,6 +17,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 constexpr int kTh = 90, kTd = 90, kPd = 180;
 constexpr size_t kBins = static_cast<size_t>(kTh) * kTd * kPd;
@@ -245,5 +246,6 @@ TEST(MerlBinTest, FollowsTheReferenceIndexing) {
   EXPECT_EQ(MerlBinOf(a, b).theta_diff, 89);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

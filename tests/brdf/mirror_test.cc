@@ -7,6 +7,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(MirrorTest, SamplesTheMirrorDirectionAsADelta) {
   const MirrorBrdf mirror(Rgb(0.9, 0.8, 0.7));
@@ -33,5 +34,6 @@ TEST(MirrorTest, ReflectanceMustBeInTheUnitInterval) {
   EXPECT_TRUE(MirrorBrdf(Rgb(1.0)).IsEnergyConserving());
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -16,6 +16,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 struct ReferenceRow {
   const char* material;
@@ -190,5 +191,6 @@ TEST(NbrdfTest, MalformedNetworkFilesNameTheFieldAtFault) {
             std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

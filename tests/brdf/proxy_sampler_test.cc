@@ -14,6 +14,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // A BRDF whose Sample/Pdf are the proxy fitted to another BRDF.
 class ProxySampled final : public Brdf {
@@ -167,5 +168,6 @@ TEST(HalfVectorProxySamplerTest, ADiffuseMaterialHasNoLobe) {
   EXPECT_DOUBLE_EQ(diffuse.Pdf(w_o, w_i), CosineHemispherePdf(w_i));
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

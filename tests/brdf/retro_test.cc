@@ -11,6 +11,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -68,5 +69,6 @@ TEST(RetroTest, SpecRoundTripsAndBadParametersAreRejected) {
   EXPECT_THROW(MakeBrdf("retro:kd=0.1"), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -14,6 +14,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 using testing::TempDir;
@@ -95,5 +96,6 @@ TEST(RglBrdf, MalformedFilesAreReportedByName) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -11,6 +11,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -173,5 +174,6 @@ TEST(ChiSquareHelperTest, PValuesMatchClosedForms) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -7,6 +7,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 ShBrdfData Data(TargetKind target, int order) {
   ShBrdfData data;
@@ -97,5 +98,6 @@ TEST(ShBrdfTest, SpecNamesTheSourceFile) {
   EXPECT_NE(ShBrdf(Data(TargetKind::kHsh, 2)).Spec().find("target=hsh"), std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

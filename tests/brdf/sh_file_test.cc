@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 std::string TempPath(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / "zbrdf-sh-file-test";
@@ -86,5 +87,6 @@ TEST(ShFileTest, RejectsBadInput) {
   EXPECT_THROW(ReadShFile(TempPath("does-not-exist.exr")), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

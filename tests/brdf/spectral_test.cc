@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(Spectral, ObserverFitHasTheCieIntegrals) {
   // The CIE 1931 color matching functions integrate to 106.86 nm each (the tabulated functions
@@ -45,5 +46,6 @@ TEST(Spectral, GraysAreFlatAndInGamutColorsRoundTrip) {
   EXPECT_NEAR(std::max({std::abs(back.r - 1), std::abs(back.g), std::abs(back.b)}), error, 1e-12);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

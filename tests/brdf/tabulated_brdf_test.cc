@@ -17,6 +17,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -443,5 +444,6 @@ TEST(TabulatedBrdfTest, SamplesWithItsProxy) {
   EXPECT_GT(table.GlossyProbability(SphericalDirection(0.6, 1.0)), 0.05);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

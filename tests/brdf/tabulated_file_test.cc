@@ -26,6 +26,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 using testing::TempDir;
@@ -227,5 +228,6 @@ TEST(TabulatedFileTest, RglSpecsLoadTheBundledRglNetworks) {
   EXPECT_THROW(MakeBrdf("rgl:"), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

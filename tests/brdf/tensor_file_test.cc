@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(TensorFile, RoundTripAndDamage) {
   testing::TempDir dir("tensor");
@@ -64,5 +65,6 @@ TEST(TensorFile, EmptyNameAtTheEndIsAnInputError) {
   EXPECT_THROW(ReadTensorFile(dir.File("cut.bsdf")), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

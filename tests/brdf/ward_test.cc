@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 
@@ -71,5 +72,6 @@ TEST(WardTest, RejectsOutOfRangeParameters) {
   EXPECT_THROW(WardBrdf(Rgb(0.1), Rgb(-0.5), 0.1, 0.1), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 CalibrationData Sample(const Rig& design) {
   CalibrationData d = NewCalibration(design);
@@ -99,5 +100,6 @@ TEST(CalibrationData, WrongRigAndDamageAreNamedErrors) {
   std::filesystem::remove_all(folder);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 constexpr const char* kMaterial = "lambert:0.18";
 constexpr const char* kFaults =
@@ -75,5 +76,6 @@ TEST(EndToEnd, FullCalibrationOfAFaultyRig) {
   std::filesystem::remove_all(folder);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -7,6 +7,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 struct MapErrors {
   MapDifference camera, projector, camera_nominal, projector_nominal;
@@ -83,5 +84,6 @@ TEST(Geometry, ProjectorAxialOffsetAndTiltAreRecovered) {
   EXPECT_LT(e.projector.p95_deg, 0.2);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

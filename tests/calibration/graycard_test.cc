@@ -8,6 +8,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(GrayCard, LambertianCoefficientsHaveClosedForms) {
   const Zone zone = Zone::FromDegrees(9.7, 56.5);
@@ -43,5 +44,6 @@ TEST(GrayCard, DeviationsWithinOnePercent) {
   std::filesystem::remove_all(folder);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -7,6 +7,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Acceptance: gain and read noise within 5% (the fast preset's binned sensor: 40 e-/DN, 40 e-).
 TEST(Noise, PhotonTransferRecoversTheSensor) {
@@ -29,5 +30,6 @@ TEST(Noise, AnUnlitTargetIsADeviceError) {
   EXPECT_THROW(CalibrateNoise(sim.rig, sim.Nominal()), DeviceError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

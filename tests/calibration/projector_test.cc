@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(MonotoneInterpolate, ExactForLinesAndMonotoneForSteps) {
   const std::vector<int> x = {0, 8, 16, 255};
@@ -75,5 +76,6 @@ TEST(Projector, GammaAndFalloffAreCalibratedToOnePercent) {
   std::filesystem::remove_all(folder);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

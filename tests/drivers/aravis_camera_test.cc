@@ -18,6 +18,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using std::chrono::milliseconds;
 
@@ -418,5 +419,6 @@ TEST(CameraDirectoryTest, EntriesAreMergedBySerial) {
   EXPECT_THROW(LocalInterfaceFor("camera.local"), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

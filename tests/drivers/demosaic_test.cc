@@ -6,6 +6,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // A mosaic of a uniform color: each site holds the channel its filter passes. The layout name
 // gives the top-left 2x2 block row by row (RGGB: R at (0,0), G at (1,0) and (0,1), B at (1,1)).
@@ -87,5 +88,6 @@ TEST(DemosaicTest, RejectsFramesWhoseDataDoNotMatchTheirSize) {
   EXPECT_THROW(BayerToRgbConversionCode(PixelLayout::kMono), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

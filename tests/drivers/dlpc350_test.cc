@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 Dlpc350Report R(std::initializer_list<uint8_t> bytes) {
   Dlpc350Report r{};
@@ -328,5 +329,6 @@ TEST(Dlpc350Test, StatusProblemsAreSpelledOut) {
   EXPECT_EQ(status.Problems(), "sequencer error; DMD parked (projector in standby?)");
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

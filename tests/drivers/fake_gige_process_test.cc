@@ -11,6 +11,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using std::chrono::milliseconds;
 
@@ -68,5 +69,6 @@ TEST(FakeGigEProcessTest, KillingTheCameraMidCaptureIsADeviceErrorNamingIt) {
   revived.emplace("ZBRDF-PROC");
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

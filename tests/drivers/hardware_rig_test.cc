@@ -7,6 +7,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 std::string ErrorOf(const std::string& yaml) {
   try {
@@ -121,5 +122,6 @@ TEST(HardwareRigTest, VideoSetupOfTheDlpc350) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -8,6 +8,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 std::vector<uint16_t> Unpack(const char* name, std::vector<uint8_t> bytes, int width, int height) {
   const PixelFormatInfo* format = FindPixelFormat(name);
@@ -96,5 +97,6 @@ TEST(PixelFormatTest, PackRejectsSamplesAboveTheBitDepth) {
   EXPECT_THROW(PackPixels(*format, {4096}, 1, 1, bytes.data()), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

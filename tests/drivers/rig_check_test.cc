@@ -17,6 +17,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 class LitSample final : public Projector {
  public:
@@ -158,5 +159,6 @@ TEST_F(RigCheckTest, TheMeasuredLatencyBracketsTheTrueDelayAndIsComparedWithTheS
   EXPECT_TRUE(Find(report, "levels.white")->passed);  // levels are measured in steady state
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

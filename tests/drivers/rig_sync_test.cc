@@ -6,6 +6,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Records what the capture does, with the model clock's time of each call.
 struct Log {
@@ -90,5 +91,6 @@ TEST(RigSyncTest, NamesRoundTripAndBadValuesAreRejected) {
   EXPECT_THROW(PatternCapture(camera, projector, log.clock, config), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -11,6 +11,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 class X11DisplayTest : public ::testing::Test {
  protected:
@@ -119,5 +120,6 @@ TEST(X11DisplayNoServerTest, AMissingDisplayIsADeviceError) {
   EXPECT_THROW(X11Display display(options), DeviceError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 const Zone kZone = Zone::FromDegrees(11.3, 54.9);
 constexpr int kOrder = 8;
@@ -140,5 +141,6 @@ TEST(AnalyticFitTest, ParsesModelNames) {
   EXPECT_THROW(ParseAnalyticModel("phong"), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Residual (a + b x - y) / sigma of a straight-line fit; `b` may be the same block as `a`'s twin.
 struct Line {
@@ -67,5 +68,6 @@ TEST(ParameterStandardDeviations, ARankDeficientProblemGetsThePseudoInverse) {
   EXPECT_NEAR((*sd)[1][0], sigma / std::sqrt(12.0), 1e-12);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

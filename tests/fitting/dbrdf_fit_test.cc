@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 const Zone kZone = Zone::FromDegrees(11.3, 54.9);  // the thesis rig at the fast preset
 constexpr int kOrder = 8;
@@ -361,5 +362,6 @@ TEST(DBrdfFitTest, RejectsDataOfAnotherZoneOrOrder) {
   EXPECT_THROW(DBrdfFitter(kZone, 2, bad), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -8,6 +8,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Reference NNLS: every subset of columns as the passive set, the best feasible solution.
 Eigen::VectorXd EnumerateNnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b) {
@@ -102,5 +103,6 @@ TEST(FitWeightsTest, ReportsDegenerateData) {
   EXPECT_NE(w.conditions[1].find("no variances"), std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 const Zone kZone = Zone::FromDegrees(11.3, 54.9);
 
@@ -102,5 +103,6 @@ TEST(ZonalTensorTest, ProblemsNameTheFault) {
   EXPECT_NE(data.Problems().find("is not 4 x 4"), std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

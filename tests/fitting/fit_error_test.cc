@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 const Zone kZone = Zone::FromDegrees(11.3, 54.9);
 
@@ -108,5 +109,6 @@ TEST(CompareBrdfsTest, InZoneErrorOfTheZonalExpansionIsTheEnergyOutsideTheBand) 
   EXPECT_NEAR(c.outside_zone, 1.0, 1e-12);  // g_L vanishes outside the zone
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

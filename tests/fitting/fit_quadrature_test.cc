@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 const Zone kZone = Zone::FromDegrees(11.3, 54.9);  // the thesis rig at the fast preset
 
@@ -108,5 +109,6 @@ TEST(PairQuadratureTest, RejectsBadOptions) {
   EXPECT_THROW(ProjectDBrdfTable(q, 8, 1), InputError);  // 7 does not divide 90
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

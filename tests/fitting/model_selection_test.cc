@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 const Zone kZone(0.19722220547535926, 0.9581857593448869);  // the fast thesis zone
 constexpr int kOrder = 3;
@@ -248,11 +249,13 @@ TEST(ModelSelectionTest, FoldsOutsideTheRangeAndMalformedDataThrow) {
   EXPECT_THROW(SelectModel(bad, candidates), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // The preferred candidate (the prior in zbrdf fit) is kept unless another predicts every block
 // better and its error is at most (1 - margin) of the preferred one's.
@@ -295,5 +298,6 @@ TEST(ModelSelectionTest, PreferredCandidateIsReplacedOnlyByOneBetterInEveryBlock
   EXPECT_EQ(s.recommended, "ggx");
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

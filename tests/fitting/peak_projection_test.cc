@@ -19,6 +19,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // The thesis rig's zone at the fast preset (11.3 - 54.9 deg).
 const Zone kZone(0.19722220547535926, 0.9581857593448869);
@@ -248,5 +249,6 @@ TEST(PeakProjectorTest, OptionsNameEveryBadField) {
   EXPECT_THROW(PeakProjector(kZone, -1), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

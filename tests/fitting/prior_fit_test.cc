@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // The fast thesis zone; order 4 and a coarse grid keep each fit well under a second.
 const Zone kZone(0.19722220547535926, 0.9581857593448869);
@@ -282,5 +283,6 @@ TEST(PriorFit, DegenerateAndMalformedData) {
   }
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 uint32_t Crc32(const std::string& bytes) {  // ISO 3309, reflected, polynomial 0xEDB88320
   uint32_t crc = 0xFFFFFFFFu;
@@ -135,5 +136,6 @@ TEST(AnimatedPng, RejectsMismatchedFramesAndRates) {
   EXPECT_NO_THROW(EncodeAnimatedPng(frames, 1));
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Two glossy materials a little apart: at 64 samples per pixel the noise of two independent
 // renders is larger than their difference, and the plain relative RMSE is mostly noise. The
@@ -56,5 +57,6 @@ TEST(NoiseCorrectedImageError, IsNearZeroForOneMaterialRenderedTwice) {
   EXPECT_LT(e.relative_rmse, 0.3 * e.relative_noise);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

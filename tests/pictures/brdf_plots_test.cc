@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(Plots, BandEnergySumsTheSquaredCoefficientsByDegree) {
   const ZonalData data = testing::MakeZonalData();
@@ -58,5 +59,6 @@ TEST(Plots, SlicesLieInThePlaneOfIncidence) {
   EXPECT_EQ(image.type(), CV_8UC3);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

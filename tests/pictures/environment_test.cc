@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(Environment, SamplingDensityMatchesPdfAndIntegratesToOne) {
   const Environment sky = Environment::Sky();
@@ -59,11 +60,13 @@ TEST(Environment, SamplingDensityMatchesPdfAndIntegratesToOne) {
   EXPECT_NEAR(irradiance, 2.5 * M_PI, 0.02 * 2.5 * M_PI + sky_only);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // A small map with distinct, asymmetric values: pixel (x, y) = (x + 1, y + 1, x y + 1) / 8.
 RgbImage Pattern() {
@@ -177,5 +180,6 @@ TEST(Environment, ReadsRadianceHdrAndOpenExrMapsByExtension) {
   EXPECT_THROW(Environment::FromFile(dir.File("missing.hdr")), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -23,6 +23,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 using testing::TempDir;
@@ -387,5 +388,6 @@ TEST(FolderReport, IndexHasOneRowPerSessionLinkingItsPageAndRewritesOnlyStalePag
                InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

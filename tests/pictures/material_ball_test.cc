@@ -14,6 +14,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Pixels whose whole square lies on the ball (no silhouette pixels, whose samples partly miss).
 std::vector<size_t> InteriorPixels(int size) {
@@ -177,5 +178,6 @@ TEST(MaterialBall, StrategiesAgreeInExpectation) {
   EXPECT_NEAR(mean, mis, 4 * se + 0.01 * mis) << "standard error " << se;
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -16,6 +16,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(Relight, ReweightingMatchesAHandComputedCase) {
   // Four equally weighted particles, incremental weights 1, 2, 3, 4: the normalizing constant
@@ -407,6 +408,7 @@ TEST(Relight, RejectsBadOptions) {
   EXPECT_THROW({ BallSequence s(brdf, options); }, InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
 

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(DirectionMapsTest, CameraMapCoversTheZoneWithUnitDirections) {
   const auto& shared = testing::SharedFastThesisRig();
@@ -96,5 +97,6 @@ TEST(DirectionMapsTest, BayerChannels) {
   EXPECT_EQ(BayerChannel(PixelLayout::kMono, 1, 0), -1);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

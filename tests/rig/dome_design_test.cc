@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(DomeDesignTest, ThesisPrototypeZoneIsAbout9To57Degrees) {
   const DomeDesign d = DesignDome(LoadRig(testing::SourceRig("thesis.yaml")));
@@ -79,5 +80,6 @@ TEST(DomeDesignTest, ImpossibleGeometriesSayWhatToChange) {
   EXPECT_THROW(DesignDome(rig), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -9,6 +9,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 // Largest |angle of incidence - angle of reflection| along a traced camera path, and the landing
 // point. Re-traces the path bounce by bounce with the public intersection routines.
@@ -145,5 +146,6 @@ TEST(OpticsTest, PathsAreReversible) {
   EXPECT_GT(checked, 50);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 std::string ErrorOf(const std::string& yaml) {
   try {
@@ -167,5 +168,6 @@ TEST(RigTest, ProjectorResponseAndFlatField) {
   EXPECT_NEAR(p.FlatField(0, 0), 0.7, 1e-15);  // the corner loses the falloff
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 Pattern Uniform(const Rig& rig, uint16_t level) {
   Pattern p;
@@ -233,5 +234,6 @@ TEST(ImagingTest, RejectsPatternsOfTheWrongShape) {
   EXPECT_THROW(model.ElectronRate(p), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -119,5 +120,6 @@ TEST_F(TransportCacheTest, DamagedEntriesAreRebuiltAndTheFolderIsTrimmed) {
   EXPECT_FALSE(off.from_cache());
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

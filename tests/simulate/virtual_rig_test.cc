@@ -8,6 +8,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 VirtualRig MakeRig(uint64_t seed) {
   VirtualRig::Options options;
@@ -95,5 +96,6 @@ TEST(VirtualRigTest, SwappingTheMaterialChangesTheFrames) {
   EXPECT_NEAR(w / g, 3.0, 0.05);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -12,6 +12,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -108,5 +109,6 @@ TEST(AccuracyTest, RejectsBadOptions) {
   EXPECT_EQ(MaterialDevice("ggx:alpha=0.2"), "other");
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

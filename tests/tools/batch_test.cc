@@ -23,6 +23,7 @@ extern char** environ;
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 namespace fs = std::filesystem;
 
 // Three cheap materials at order 2, one model: a batch of a few seconds per item (the transports
@@ -216,5 +217,6 @@ TEST(SlurmTest, SiteFilesAreCheckedAndTimeLimitsFollowTheEstimate) {
   EXPECT_EQ(ShellQuote("--out=results/x"), "--out=results/x");
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

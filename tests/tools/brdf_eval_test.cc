@@ -21,6 +21,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Rng;
 using testing::TempDir;
@@ -328,5 +329,6 @@ TEST(EvalCommand, FailedRunWritesNothingAndSuccessWritesTheFile) {
   EXPECT_NEAR(rows[0][4], 0.5 / M_PI, 1e-16);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -19,6 +19,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::Agreement;
 using testing::Compare;
@@ -154,5 +155,6 @@ TEST(MerlExport, DeltaMaterialIsRefused) {
   EXPECT_THROW(ExportBrdf(ResolveBrdfInput("mirror:0.9"), options), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -20,6 +20,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::TempDir;
 
@@ -121,5 +122,6 @@ TEST(BrdfInput, UnknownInputsSayWhatWasTried) {
   EXPECT_NE(MessageOf("ggx:alpha=-1").find("alpha"), std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -16,6 +16,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::TempDir;
 
@@ -97,5 +98,6 @@ TEST(Commands, ExportPreviewPlotCompareReportOnASession) {
   EXPECT_GT(testing::ReadFile(s + "/report.html").size(), 10000u);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

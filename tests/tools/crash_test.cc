@@ -49,6 +49,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -547,5 +548,6 @@ TEST(CrashHarness, ExportsKilledOrStarvedAnywhereLeaveWholeFilesAndRedoThem) {
   fs::remove_all(root);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -10,6 +10,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(FitAllTest, ExpandsMaterialLists) {
   const auto list = ExpandMaterialList("ggx:alpha=0.2,F0=0.5,kd=0.1,0.2,0.3,lambert:0.5");
@@ -66,5 +67,6 @@ TEST(FitAllTest, TabulatesErrorsAndResumes) {
   EXPECT_THROW(RunFitAll(options), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -20,6 +20,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::SimulatedSession;
 
@@ -328,5 +329,6 @@ TEST(FitSessionTest, RejectsUnknownModelsAndFoldersWithoutData) {
   EXPECT_THROW(FitSession(testing::TestBuildDir("test-empty-session"), Options("dbrdf")), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -15,6 +15,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 using testing::TempDir;
 
@@ -132,5 +133,6 @@ TEST(PreviewAnimation, FlagsThatDoNotGoTogetherAreRefusedByName) {
   EXPECT_NE(error_of("--turntable 2").find("--out is required"), std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -13,6 +13,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 namespace fs = std::filesystem;
 
 TEST(PriorBuildTest, ShardsMergeToTheWholeBuildsFile) {
@@ -78,5 +79,6 @@ TEST(PriorBuildTest, AShardReadsOnlyItsMaterialsAndTheMergeNamesABadOne) {
   EXPECT_THROW(CollectPriorSources({"merl:no-such-material"}), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

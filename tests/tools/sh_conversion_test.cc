@@ -13,6 +13,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 TEST(ShConversionTest, ConvertsASessionAndRoundTripsThroughTheFile) {
   const std::string session = testing::SimulatedSession("lambert:0.5,0.4,0.3", 8);
@@ -65,5 +66,6 @@ TEST(ShConversionTest, GivenTauTruncatesAndOtherTargetsWork) {
   EXPECT_THROW(ConvertToSh(data, options), InputError);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -17,6 +17,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 StressOptions TestOptions() {
   // The tools tests' direction-map cache (simulated_sessions.h), so maps are traced once.
@@ -141,5 +142,6 @@ TEST(StressTest, Zonal) { RunGroup("zonal", 7); }
 // Simulated captures of extreme materials, then convert and fits (about 25 s on 2 cores).
 TEST(StressTest, Capture) { RunGroup("capture", 7); }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

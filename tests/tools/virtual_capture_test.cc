@@ -25,6 +25,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 using testing::ReadFile;
@@ -370,5 +371,6 @@ TEST(VirtualCapture, AFrameDamagedBehindItsJournalsBackIsFoundByItsOwnChecksum) 
   EXPECT_NE(err.find("--resume"), std::string::npos) << err;
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
