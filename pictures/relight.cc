@@ -282,7 +282,6 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
     Rgb radiance;
     double light;  // Floored(radiance) on this frame
     int particle;  // the carried particle's index; -1 for a fresh candidate
-    bool evaluate; // f_r cos / p_b is not known yet (a fresh candidate or a turned particle)
   };
   thread_local std::vector<Member> pool;
   thread_local std::vector<double> weights;
@@ -312,7 +311,7 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
     } else {
       g_prev = previous.Floored(previous.env->Radiance(p.d)) * p.pdf_brdf;
     }
-    add({p.w, p.pdf_brdf, p.radiance, light, -1, true},
+    add({p.w, p.pdf_brdf, p.radiance, light, -1},
         FreshCandidateWeight(light * p.pdf_brdf, g_prev, MixturePdf(share, p.pdf_brdf, p.pdf_env),
                              m, c));
   }
@@ -330,7 +329,7 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
     }
     const Rgb radiance = current.env->Radiance(d);
     const double light = current.Floored(radiance);
-    add({w, pdf_brdf, radiance, light, k, turn.has_value()},
+    add({w, pdf_brdf, radiance, light, k},
         CarriedParticleWeight(light * pdf_brdf, static_cast<double>(p.light) * p.pdf_brdf, *z,
                               n, m, c));
   }
@@ -347,7 +346,8 @@ bool SmcFrame(const PixelContext& ctx, const Light& previous, const Light& curre
   for (int k = 0; k < n; ++k) {
     const Member& member = pool[picks[k]];
     if (member.particle >= 0) ++counters.carried;
-    if (!member.evaluate) {
+    // A carried particle's f_r cos / p_b is known unless the turn moved it.
+    if (member.particle >= 0 && !turn) {
       ratio = Ratio(copy[member.particle]);
     } else if (picks[k] != evaluated) {  // systematic picks are sorted: duplicates are adjacent
       ratio = ctx.brdf->Eval(member.w, ctx.w_o) * (member.w.z / member.pdf_brdf);

@@ -45,9 +45,9 @@
 //       g_{t-1}(T^-1(y)), in the weights above for fresh and carried members alike (so they
 //       still sum to one at every y). L_{t-1}(T^-1(y)) = L_t(y), so this costs a BRDF density
 //       at T^-1(y) per fresh candidate, and a density and, when picked, an evaluation per
-//       carried particle, instead of the previous map's lookup. This is the shift mapping of GRIS (the
-//       motion-vector reuse of ReSTIR) with the turn as the motion. A particle turned below
-//       the horizon drops out.
+//       carried particle, instead of the previous map's lookup. This is the shift mapping of
+//       GRIS (the motion-vector reuse of ReSTIR) with the turn as the motion. A particle turned
+//       below the horizon drops out.
 // kSmcBridges  the seed paper's scheme, kept for comparison (it loses to SIR everywhere we
 //       measured, docs/preview.md): a later frame moves the previous frame's particles from
 //       g_{t-1} to g_t through K geometric bridges g_{t-1}^(1-b) g_t^b,

@@ -54,9 +54,11 @@ TEST(HalfVectorProxySamplerTest, SamplingMatchesPdfForSharpAndBroadMaterials) {
     EXPECT_SAMPLING_MATCHES_PDF(*chrome, w_o, 111, 1e-3, AboutMirror(w_o));
   }
   const auto fabric = NbrdfBrdf::FromName("red-fabric");
-  EXPECT_SAMPLING_MATCHES_PDF(*fabric, SphericalDirection(0.5, 2.0), 112, 1e-3, testing::PiecewiseDensityCubature());
+  EXPECT_SAMPLING_MATCHES_PDF(*fabric, SphericalDirection(0.5, 2.0), 112, 1e-3,
+                              testing::PiecewiseDensityCubature());
   const ProxySampled ggx(std::make_unique<GgxBrdf>(0.1, 0.1, Rgb(0.5), Rgb(0.1)));
-  EXPECT_SAMPLING_MATCHES_PDF(ggx, SphericalDirection(0.8, 5.0), 113, 1e-3, testing::PiecewiseDensityCubature());
+  EXPECT_SAMPLING_MATCHES_PDF(ggx, SphericalDirection(0.8, 5.0), 113, 1e-3,
+                              testing::PiecewiseDensityCubature());
 }
 
 // Per-sample relative standard deviation of f cos / pdf (luminance) for w_o, with n samples.
@@ -136,7 +138,8 @@ TEST(HalfVectorProxySamplerTest, HalfVectorDensityIsItsCellsValueFoundByAcos) {
                                 edges.begin()) - 1;
     cell = std::clamp(cell, 0, cells - 1);
     const double step = proxy.probes()[1].theta_o_rad;
-    const int k = std::min(static_cast<int>(theta_o / step), static_cast<int>(proxy.probes().size()) - 2);
+    const int last_pair = static_cast<int>(proxy.probes().size()) - 2;
+    const int k = std::min(static_cast<int>(theta_o / step), last_pair);
     const double a = 1 - (theta_o / step - k);
     const auto& p0 = proxy.probes()[k];
     const auto& p1 = proxy.probes()[k + 1];
