@@ -149,6 +149,7 @@ GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
               state = Mix(state);
               std::swap(lobe_order[i], lobe_order[static_cast<int>(state % static_cast<uint64_t>(i + 1))]);
             }
+            const Brdf::GlossyView view = material.PrepareGlossy(w_r);  // once per point
             for (int strategy = 0; strategy < 2; ++strategy) {
               for (int i = 0; i < half; ++i) {
                 double u, v;
@@ -159,12 +160,12 @@ GroundTruth TrueZonalCoefficients(const Brdf& material, const ZonalData& layout,
                   const double st = std::sqrt(sin2), ct = std::sqrt(std::max(0.0, 1 - sin2));
                   w_i = {st * std::cos(2 * M_PI * v), st * std::sin(2 * M_PI * v), ct};
                 } else {
-                  const BrdfSample bs = material.SampleGlossy(w_r, (lobe_order[i] + 0.5) / half, u, v);
+                  const BrdfSample bs = material.SampleGlossyAt(view, (lobe_order[i] + 0.5) / half, u, v);
                   if (bs.pdf <= 0) continue;
                   w_i = bs.w_i;
                 }
                 if (w_i.z < a || w_i.z > b) continue;
-                const double q = half * (w_i.z / projected) + half * material.GlossyPdf(w_r, w_i);
+                const double q = half * (w_i.z / projected) + half * material.GlossyPdfAt(view, w_i);
                 if (!(q > 0)) continue;
                 batch_in.push_back(w_i);
                 batch_scale.push_back(w_i.z / q);
@@ -249,7 +250,7 @@ GroundTruth TrueZonalCoefficientsCached(const Brdf& material, const ZonalData& l
   char text[320];
   const ExitantGrid& g = layout.grid;
   std::snprintf(text, sizeof(text),
-                "zbrdf truth v5 zone %.17g %.17g grid %.17g %.17g %.17g %.17g %d %d order %d "
+                "zbrdf truth v6 zone %.17g %.17g grid %.17g %.17g %.17g %.17g %d %d order %d "
                 "samples %d phi_stride %d seed %llu material ",
                 layout.theta_min_rad, layout.theta_max_rad, g.theta_min_rad, g.theta_max_rad,
                 g.theta_step_rad, g.phi_step_rad, g.n_theta, g.n_phi, layout.order, options.samples,

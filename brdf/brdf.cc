@@ -23,26 +23,28 @@ BrdfSample Brdf::Sample(const Vec3& w_o, double /*u_lobe*/, double u0, double u1
 
 double Brdf::Pdf(const Vec3& /*w_o*/, const Vec3& w_i) const { return CosineHemispherePdf(w_i); }
 
-namespace {
-// Below this glossy probability the glossy density would be the difference of two nearly
-// equal numbers; such a model is treated as purely diffuse.
-constexpr double kMinGlossyProbability = 1e-6;
-}  // namespace
+Brdf::GlossyView Brdf::PrepareGlossy(const Vec3& w_o) const {
+  GlossyView view;
+  view.w_o = w_o;
+  view.probability = GlossyProbability(w_o);
+  return view;
+}
 
-BrdfSample Brdf::SampleGlossy(const Vec3& w_o, double u_lobe, double u0, double u1) const {
-  const double p = GlossyProbability(w_o);
+BrdfSample Brdf::SampleGlossyAt(const GlossyView& view, double u_lobe, double u0,
+                                double u1) const {
+  const double p = view.probability;
   if (!(p >= kMinGlossyProbability)) return {};
   // Sample() takes its glossy part for u_lobe < p: rescale to stay there.
-  BrdfSample s = Sample(w_o, std::min(u_lobe, 1.0 - 1e-12) * p, u0, u1);
+  BrdfSample s = Sample(view.w_o, std::min(u_lobe, 1.0 - 1e-12) * p, u0, u1);
   if (s.pdf <= 0 || s.is_delta) return s;
-  s.pdf = GlossyPdf(w_o, s.w_i);
+  s.pdf = Brdf::GlossyPdfAt(view, s.w_i);  // the density of this derivation, not an override's
   return s;
 }
 
-double Brdf::GlossyPdf(const Vec3& w_o, const Vec3& w_i) const {
-  const double p = GlossyProbability(w_o);
+double Brdf::GlossyPdfAt(const GlossyView& view, const Vec3& w_i) const {
+  const double p = view.probability;
   if (!(p >= kMinGlossyProbability)) return 0.0;
-  return std::max(0.0, (Pdf(w_o, w_i) - (1.0 - p) * CosineHemispherePdf(w_i)) / p);
+  return std::max(0.0, (Pdf(view.w_o, w_i) - (1.0 - p) * CosineHemispherePdf(w_i)) / p);
 }
 
 Vec3 SampleCosineHemisphere(double u0, double u1) {

@@ -59,11 +59,36 @@ class Brdf {
     (void)w_o;
     return 0.0;
   }
+  // Below this glossy probability the glossy density would be the difference of two nearly
+  // equal numbers; such a model is treated as purely diffuse.
+  static constexpr double kMinGlossyProbability = 1e-6;
   // Samples of the glossy part alone, and their density, for integrators that handle the
   // smooth part of an integrand by other means (the rig simulator). No sample (pdf = 0) when
-  // GlossyProbability is 0.
-  BrdfSample SampleGlossy(const Vec3& w_o, double u_lobe, double u0, double u1) const;
-  double GlossyPdf(const Vec3& w_o, const Vec3& w_i) const;
+  // GlossyProbability is below kMinGlossyProbability.
+  BrdfSample SampleGlossy(const Vec3& w_o, double u_lobe, double u0, double u1) const {
+    return SampleGlossyAt(PrepareGlossy(w_o), u_lobe, u0, u1);
+  }
+  double GlossyPdf(const Vec3& w_o, const Vec3& w_i) const {
+    return GlossyPdfAt(PrepareGlossy(w_o), w_i);
+  }
+
+  // The same for many samples of one viewing direction, with what depends only on w_o worked
+  // out once by PrepareGlossy (the simulator draws 32-64 samples per camera ray, the true
+  // coefficients thousands per exitant direction). SampleGlossyAt(PrepareGlossy(w_o), ...)
+  // equals SampleGlossy(w_o, ...) up to rounding, and GlossyPdfAt likewise. A model overrides
+  // all three or none: a view is read only by the class whose PrepareGlossy made it.
+  struct GlossyView {
+    Vec3 w_o;
+    double probability = 0;  // GlossyProbability(w_o)
+    // What a model's PrepareGlossy keeps for later calls (the half-vector proxy: the two
+    // probes around theta_o and their lobes' weights); unused by the default.
+    int index = 0;
+    double weight[2] = {0, 0};
+  };
+  virtual GlossyView PrepareGlossy(const Vec3& w_o) const;
+  virtual BrdfSample SampleGlossyAt(const GlossyView& view, double u_lobe, double u0,
+                                    double u1) const;
+  virtual double GlossyPdfAt(const GlossyView& view, const Vec3& w_i) const;
 
   // f_r(w_i, w_o) == f_r(w_o, w_i) for this model by construction.
   virtual bool IsReciprocal() const = 0;

@@ -153,7 +153,7 @@ MerlBrdf::MerlBrdf(MerlTable table, std::string spec)
   for (const Rgb& f : table_.f) {
     invalid_entry_count_ += (f.r < 0) + (f.g < 0) + (f.b < 0);
   }
-  sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
+  FitProxySampler();
 }
 
 std::unique_ptr<MerlBrdf> MerlBrdf::FromFile(const std::string& path) {
@@ -165,16 +165,6 @@ Rgb MerlBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
   const MerlBin bin = MerlBinOf(w_i, w_o);
   const Rgb& f = table_.f[MerlTable::Index(bin.theta_half, bin.theta_diff, bin.phi_diff)];
   return {std::max(f.r, 0.0), std::max(f.g, 0.0), std::max(f.b, 0.0)};
-}
-
-BrdfSample MerlBrdf::Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const {
-  return sampler_->Sample(w_o, u_lobe, u0, u1);
-}
-
-double MerlBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const { return sampler_->Pdf(w_o, w_i); }
-
-double MerlBrdf::GlossyProbability(const Vec3& w_o) const {
-  return w_o.z > 0 ? sampler_->LobeProbability(w_o) : 0.0;
 }
 
 }  // namespace zbrdf

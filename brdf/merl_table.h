@@ -63,7 +63,7 @@ void WriteMerlBinary(const std::string& path, const MerlTable& table);
 
 // A MERL table as a BRDF. Unmeasured (negative) entries evaluate to 0 per channel. Sampled with
 // the HalfVectorProxySampler fitted to the table at construction.
-class MerlBrdf final : public Brdf {
+class MerlBrdf final : public ProxySampledBrdf {
  public:
   // spec: what Spec() returns, e.g. "file:gold.binary".
   MerlBrdf(MerlTable table, std::string spec);
@@ -71,9 +71,6 @@ class MerlBrdf final : public Brdf {
   static std::unique_ptr<MerlBrdf> FromFile(const std::string& path);
 
   Rgb Eval(const Vec3& w_i, const Vec3& w_o) const override;
-  BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
-  double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
-  double GlossyProbability(const Vec3& w_o) const override;
   // True: folding phi_d by pi maps (w_i, w_o) and (w_o, w_i) to the same bin.
   bool IsReciprocal() const override { return true; }
   // False: measured data carry no such guarantee.
@@ -84,13 +81,11 @@ class MerlBrdf final : public Brdf {
   const MerlTable& table() const { return table_; }
   // Number of negative (unmeasured) values over all bins and channels, counted at load.
   int64_t invalid_entry_count() const { return invalid_entry_count_; }
-  const HalfVectorProxySampler& sampler() const { return *sampler_; }
 
  private:
   MerlTable table_;
   std::string spec_;
   int64_t invalid_entry_count_ = 0;
-  std::unique_ptr<HalfVectorProxySampler> sampler_;
 };
 
 }  // namespace zbrdf

@@ -1,10 +1,12 @@
 #include "brdf/nbrdf.h"
 
-#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "basis/data_path.h"
@@ -92,28 +94,60 @@ inline bool NetworkInput(const Vec3& w_i, const Vec3& w_o, double* x, int stride
 }
 
 // dst[j][k] = act(b[j] + sum_i w_t[j][i] src[i][k]) for the pairs k < tiles * kWidth, with
-// rows `stride` apart. The kWidth accumulators are an Eigen fixed-size array, which Eigen keeps
-// in vector registers across the sum over i.
+// rows `stride` apart, summed in the same order for every kWidth. For kWidth a multiple of 4 the
+// accumulators are GCC vectors of 4 doubles, kept in registers: two SSE2 registers each on any
+// x86-64, one AVX2 register in EvaluateLayers' AVX2 version.
 template <int kWidth>
-void Dense(const NbrdfNetwork::Layer& layer, const std::vector<double>& w_t, const double* src,
-           double* dst, int stride, int tiles, bool relu) {
-  using Tile = Eigen::Array<double, kWidth, 1>;
+[[gnu::always_inline]] inline void Dense(const NbrdfNetwork::Layer& layer,
+                                         const std::vector<double>& w_t, const double* src,
+                                         double* dst, int stride, int tiles, bool relu) {
   for (int tile = 0; tile < tiles; ++tile) {
     const int k0 = tile * kWidth;
     for (int j = 0; j < layer.out; ++j) {
       const double* w = &w_t[static_cast<size_t>(j) * layer.in];
-      Tile acc = Tile::Constant(layer.bias[j]);
-      for (int i = 0; i < layer.in; ++i) {
-        acc += w[i] * Eigen::Map<const Tile>(src + static_cast<size_t>(i) * stride + k0);
-      }
-      Eigen::Map<Tile> out(dst + static_cast<size_t>(j) * stride + k0);
-      if (relu) {
-        out = acc.max(0.0);
+      double* out = dst + static_cast<size_t>(j) * stride + k0;
+      if constexpr (kWidth % 4 == 0) {
+        using Quad = double __attribute__((vector_size(32)));
+        constexpr int kQuads = kWidth / 4;
+        Quad acc[kQuads];
+        for (int q = 0; q < kQuads; ++q) acc[q] = Quad{} + layer.bias[j];
+        for (int i = 0; i < layer.in; ++i) {
+          const Quad w_i = Quad{} + w[i];
+          const double* row = src + static_cast<size_t>(i) * stride + k0;
+          for (int q = 0; q < kQuads; ++q) {
+            Quad x;
+            std::memcpy(&x, row + 4 * q, sizeof(x));
+            acc[q] += w_i * x;
+          }
+        }
+        for (int q = 0; q < kQuads; ++q) {
+          if (relu) acc[q] = acc[q] > 0.0 ? acc[q] : Quad{};
+          std::memcpy(out + 4 * q, &acc[q], sizeof(Quad));
+        }
       } else {
-        out = acc;
+        for (int k = 0; k < kWidth; ++k) {
+          double acc = layer.bias[j];
+          const double* col = src + k0 + k;
+          for (int i = 0; i < layer.in; ++i) acc += w[i] * col[static_cast<size_t>(i) * stride];
+          out[k] = relu ? std::max(acc, 0.0) : acc;
+        }
       }
     }
   }
+}
+
+// The three layers of a block. Compiled twice, for x86-64 (SSE2) and for AVX2, and the version
+// the CPU supports is picked when the program starts (GCC's and Clang's target_clones). Neither
+// version contracts to fused multiply-adds, so both round exactly as Eval() does.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+__attribute__((target_clones("avx2", "default")))
+#endif
+void EvaluateLayers(const std::array<NbrdfNetwork::Layer, 3>& layers,
+                    const std::array<std::vector<double>, 3>& transposed, const double* x,
+                    double* a1, double* a2, double* y, int tiles) {
+  Dense<kTile>(layers[0], transposed[0], x, a1, kBlock, tiles, true);
+  Dense<kTile>(layers[1], transposed[1], a1, a2, kBlock, tiles, true);
+  Dense<kTile>(layers[2], transposed[2], a2, y, kBlock, tiles, false);
 }
 
 // Transposed weights (out x in), so that a neuron's weights are contiguous.
@@ -188,6 +222,10 @@ std::vector<std::string> BundledMaterialNames(const std::string& set) {
 }
 
 NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec)
+    : NbrdfBrdf(std::move(network), std::move(spec), nullptr) {}
+
+NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec,
+                     std::shared_ptr<const HalfVectorProxySampler> sampler)
     : network_(std::move(network)), spec_(std::move(spec)) {
   // Validates the chain again for networks built in code rather than read from a file.
   const auto& layers = network_.layers;
@@ -201,11 +239,44 @@ NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec)
                  "NbrdfBrdf: weight or bias count does not match the layer size");
     transposed_[k] = Transposed(layers[k]);
   }
-  sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
+  if (sampler) {
+    sampler_ = std::move(sampler);
+  } else {
+    FitProxySampler();
+  }
 }
+
+namespace {
+
+// Bundled materials already read by this process, by resolved path, with their fitted proxy
+// samplers: the files are read-only data, so a second FromName of a material (a test suite, a
+// batch, the fuzz target of material specs) costs a copy of its weights instead of parsing the
+// file and the sampler's ~8500 network evaluations. At most the bundled sets' 118 entries of a
+// few tens of kB.
+struct BundledNetwork {
+  NbrdfNetwork network;
+  std::shared_ptr<const HalfVectorProxySampler> sampler;
+};
+std::mutex bundled_mutex;
+std::map<std::string, std::shared_ptr<const BundledNetwork>>& Bundled() {
+  static std::map<std::string, std::shared_ptr<const BundledNetwork>> bundled;
+  return bundled;
+}
+
+}  // namespace
 
 std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name, const std::string& set) {
   const std::string folder = "data/materials/" + set;
+  const std::string spec = set + ":" + name;
+  // Only names found among the bundled files below enter the cache, so a hit needs no listing.
+  const std::string path = DataPath(folder + "/" + name + ".json");
+  {
+    std::lock_guard<std::mutex> lock(bundled_mutex);
+    const auto it = Bundled().find(path);
+    if (it != Bundled().end()) {
+      return std::unique_ptr<NbrdfBrdf>(new NbrdfBrdf(it->second->network, spec, it->second->sampler));
+    }
+  }
   const std::vector<std::string> names = BundledMaterialNames(set);
   if (!std::binary_search(names.begin(), names.end(), name)) {
     const std::vector<std::string> close = ClosestNames(name, names);
@@ -218,8 +289,11 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromName(const std::string& name, const st
                set + ":NAME with one of those names";
     throw InputError(message);
   }
-  return std::make_unique<NbrdfBrdf>(
-      ReadNbrdfNetwork(DataPath(folder + "/" + name + ".json")), set + ":" + name);
+  auto brdf = std::make_unique<NbrdfBrdf>(ReadNbrdfNetwork(path), spec);
+  std::lock_guard<std::mutex> lock(bundled_mutex);
+  Bundled().emplace(path, std::make_shared<const BundledNetwork>(
+                              BundledNetwork{brdf->network_, brdf->sampler_}));
+  return brdf;
 }
 
 std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromFile(const std::string& path) {
@@ -238,9 +312,7 @@ void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count,
   bool valid[kBlock];
   for (int k = 0; k < count; ++k) valid[k] = NetworkInput(w_i[k], w_o[k], x + k, kBlock);
   const int tiles = (count + kTile - 1) / kTile;
-  Dense<kTile>(network_.layers[0], transposed_[0], x, a1, kBlock, tiles, true);
-  Dense<kTile>(network_.layers[1], transposed_[1], a1, a2, kBlock, tiles, true);
-  Dense<kTile>(network_.layers[2], transposed_[2], a2, y, kBlock, tiles, false);
+  EvaluateLayers(network_.layers, transposed_, x, a1, a2, y, tiles);
   for (int k = 0; k < count; ++k) {
     if (!valid[k]) {
       f[k] = Rgb();
@@ -272,16 +344,6 @@ void NbrdfBrdf::EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
     const int count = static_cast<int>(std::min<size_t>(kBlock, w_i.size() - start));
     EvalBlock(&w_i[start], &w_o[start], &f[start], count, scratch.data());
   }
-}
-
-BrdfSample NbrdfBrdf::Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const {
-  return sampler_->Sample(w_o, u_lobe, u0, u1);
-}
-
-double NbrdfBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const { return sampler_->Pdf(w_o, w_i); }
-
-double NbrdfBrdf::GlossyProbability(const Vec3& w_o) const {
-  return w_o.z > 0 ? sampler_->LobeProbability(w_o) : 0.0;
 }
 
 }  // namespace zbrdf

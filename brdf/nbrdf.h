@@ -10,9 +10,10 @@
 // which is the same map up to rounding.
 //
 // Neither reciprocal nor energy conserving by construction. Sampled with a HalfVectorProxySampler
-// fitted at load. EvalBatch evaluates blocks of 64 pairs, each layer as Eigen fixed-size
-// arrays of 16 pairs kept in SIMD registers (about 2.5x faster per pair than Eval); all methods
-// are const and thread-safe, so callers may split a large batch across threads.
+// fitted at load. EvalBatch evaluates blocks of 64 pairs, each layer on 16 pairs at a time kept
+// in SIMD registers (AVX2 where the CPU has it, chosen at run time), summed in the same order
+// as Eval; all methods are const and thread-safe, so callers may split a large batch across
+// threads.
 #pragma once
 
 #include <array>
@@ -47,13 +48,13 @@ NbrdfNetwork ReadNbrdfNetwork(const std::string& path);
 // 2018, measured on another device: the validation set of docs/prior.md).
 std::vector<std::string> BundledMaterialNames(const std::string& set = "merl");
 
-class NbrdfBrdf final : public Brdf {
+class NbrdfBrdf final : public ProxySampledBrdf {
  public:
   // spec: what Spec() returns ("merl:NAME" or "file:PATH").
   NbrdfBrdf(NbrdfNetwork network, std::string spec);
   // A bundled material, e.g. "blue-acrylic" (Spec() "merl:blue-acrylic"; "rgl:cardboard" for
   // set "rgl"). Throws InputError for unknown names, suggesting close names and saying where
-  // the list is.
+  // the list is. Each bundled file is read and its sampler fitted once per process.
   static std::unique_ptr<NbrdfBrdf> FromName(const std::string& name,
                                              const std::string& set = "merl");
   // A network file anywhere; Spec() is "file:" + path.
@@ -62,25 +63,23 @@ class NbrdfBrdf final : public Brdf {
   Rgb Eval(const Vec3& w_i, const Vec3& w_o) const override;
   void EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
                  std::span<Rgb> f) const override;
-  BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
-  double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
-  double GlossyProbability(const Vec3& w_o) const override;
   bool IsReciprocal() const override { return false; }
   bool IsEnergyConserving() const override { return false; }
   bool IsIsotropic() const override { return true; }  // fitted to isotropic MERL tables
   std::string Spec() const override { return spec_; }
 
   const NbrdfNetwork& network() const { return network_; }
-  const HalfVectorProxySampler& sampler() const { return *sampler_; }
 
  private:
+  // With the proxy sampler fitted to an identical network earlier (null: fits it).
+  NbrdfBrdf(NbrdfNetwork network, std::string spec,
+            std::shared_ptr<const HalfVectorProxySampler> sampler);
   // Evaluates count pairs (at most one block) using scratch from EvalBatch.
   void EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count, double* scratch) const;
 
   NbrdfNetwork network_;
   std::array<std::vector<double>, 3> transposed_;  // layer weights as out x in
   std::string spec_;
-  std::unique_ptr<HalfVectorProxySampler> sampler_;
 };
 
 }  // namespace zbrdf

@@ -36,6 +36,13 @@ class HalfVectorProxySampler {
 
   // sum_j a_j P_j: the probability of sampling a half-vector lobe for this viewing direction.
   double LobeProbability(const Vec3& w_o) const;
+  // The lobes alone, for Brdf::PrepareGlossy, SampleGlossyAt and GlossyPdfAt of the models it
+  // samples: the view keeps the mixture (index: the lower probe k; weight: a_k P_k and
+  // a_k+1 P_k+1; probability: their sum), and the lobes' density sum_j a_j P_j p_h,j(h) /
+  // (4 |w_o.h|) / sum_j a_j P_j is taken without the cosine part.
+  Brdf::GlossyView PrepareLobe(const Vec3& w_o) const;
+  BrdfSample SampleLobe(const Brdf::GlossyView& view, double u_lobe, double u0, double u1) const;
+  double LobePdf(const Brdf::GlossyView& view, const Vec3& w_i) const;
   // Solid-angle density of the half vector h drawn for viewing angle theta_o (the mixture).
   double HalfVectorPdf(double theta_o_rad, const Vec3& h) const;
 
@@ -58,11 +65,41 @@ class HalfVectorProxySampler {
   Mixture MixtureAt(double theta_o_rad) const;
   double LobeDensity(const Mixture& m, const Vec3& h) const;  // the mixed p_h(h)
   double PdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;
+  double LobePdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;  // lobes alone
   Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
   int CellOf(const Vec3& h) const;  // theta_h cell of h (h.z >= 0), by its cosine: no acos
 
   std::vector<double> theta_edges_, cos_edges_;
   std::vector<Probe> probes_;
+};
+
+// The sampling half of a Brdf sampled by a HalfVectorProxySampler (measured networks, MERL
+// tables, tabulated fits): Sample, Pdf, GlossyProbability and the glossy part are the sampler's.
+// The derived class fits the sampler at the end of its constructor, once Eval works
+// (FitProxySampler), or shares one fitted to an identical BRDF.
+class ProxySampledBrdf : public Brdf {
+ public:
+  BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const final {
+    return sampler_->Sample(w_o, u_lobe, u0, u1);
+  }
+  double Pdf(const Vec3& w_o, const Vec3& w_i) const final { return sampler_->Pdf(w_o, w_i); }
+  double GlossyProbability(const Vec3& w_o) const final { return sampler_->LobeProbability(w_o); }
+  // The glossy part is the sampler's lobes (HalfVectorProxySampler::PrepareLobe).
+  GlossyView PrepareGlossy(const Vec3& w_o) const final { return sampler_->PrepareLobe(w_o); }
+  BrdfSample SampleGlossyAt(const GlossyView& view, double u_lobe, double u0,
+                            double u1) const final {
+    return sampler_->SampleLobe(view, u_lobe, u0, u1);
+  }
+  double GlossyPdfAt(const GlossyView& view, const Vec3& w_i) const final {
+    return sampler_->LobePdf(view, w_i);
+  }
+
+  const HalfVectorProxySampler& sampler() const { return *sampler_; }
+
+ protected:
+  // Probes this BRDF's Eval (about 8500 evaluations).
+  void FitProxySampler() { sampler_ = std::make_shared<const HalfVectorProxySampler>(*this); }
+  std::shared_ptr<const HalfVectorProxySampler> sampler_;
 };
 
 }  // namespace zbrdf

@@ -170,7 +170,7 @@ TabulatedBrdf::TabulatedBrdf(HalfDiffGrid grid, std::vector<Rgb> values, std::ve
       }
     }
   }
-  sampler_ = std::make_unique<HalfVectorProxySampler>(*this);
+  FitProxySampler();
 }
 
 namespace {
@@ -190,16 +190,6 @@ Rgb TabulatedBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
 Rgb TabulatedBrdf::EvalSigma(const Vec3& w_i, const Vec3& w_o) const {
   if (sigma_.empty() || w_i.z <= 0 || w_o.z <= 0) return Rgb();
   return Blend(grid_, sigma_, w_i, w_o);
-}
-
-BrdfSample TabulatedBrdf::Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const {
-  return sampler_->Sample(w_o, u_lobe, u0, u1);
-}
-double TabulatedBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const {
-  return sampler_->Pdf(w_o, w_i);
-}
-double TabulatedBrdf::GlossyProbability(const Vec3& w_o) const {
-  return sampler_->LobeProbability(w_o);
 }
 
 }  // namespace zbrdf

@@ -78,7 +78,7 @@ std::vector<Rgb> TabulateBrdf(const Brdf& brdf, const HalfDiffGrid& grid);
 template <typename T>
 void FillBelowHorizon(const HalfDiffGrid& grid, std::span<T> values);
 
-class TabulatedBrdf final : public Brdf {
+class TabulatedBrdf final : public ProxySampledBrdf {
  public:
   // values: f_r in 1/sr per node (grid.size()); sigma: its one-standard-deviation uncertainty
   // per node, or empty. Throws InputError for wrong sizes or negative or non-finite values.
@@ -88,9 +88,6 @@ class TabulatedBrdf final : public Brdf {
   Rgb Eval(const Vec3& w_i, const Vec3& w_o) const override;
   // The uncertainty interpolated like the values (zero when the table has none).
   Rgb EvalSigma(const Vec3& w_i, const Vec3& w_o) const;
-  BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const override;
-  double Pdf(const Vec3& w_o, const Vec3& w_i) const override;
-  double GlossyProbability(const Vec3& w_o) const override;
   bool IsReciprocal() const override { return true; }
   // False: a table reconstructed from data carries no such guarantee.
   bool IsEnergyConserving() const override { return false; }
@@ -105,7 +102,6 @@ class TabulatedBrdf final : public Brdf {
   HalfDiffGrid grid_;
   std::vector<Rgb> values_, sigma_;
   std::string spec_;
-  std::unique_ptr<HalfVectorProxySampler> sampler_;
 };
 
 }  // namespace zbrdf

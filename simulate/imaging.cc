@@ -223,7 +223,7 @@ namespace {
 constexpr char kTransportMagic[8] = {'Z', 'B', 'R', 'D', 'F', 'T', 'R', 'N'};
 constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
-constexpr uint32_t kTransportVersion = 1;
+constexpr uint32_t kTransportVersion = 2;
 
 template <typename T>
 std::string_view Bytes(const std::vector<T>& v) {
@@ -398,6 +398,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<Entry> entries;
     PointSet2 jitter, aperture, zone_dirs, lobe_dirs;
     std::vector<OpticalSystem::SamplePath> paths(n_aperture);
+    std::vector<Brdf::GlossyView> views(n_aperture);  // the glossy part per path's w_o
     std::vector<Vec3> w_in(std::max(n, kProbes)), w_out(std::max(n, kProbes));
     std::vector<Rgb> f(std::max(n, kProbes));
     std::vector<double> weight(n);
@@ -485,9 +486,15 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               control_[pixel * kFootprintMoments + k] = static_cast<float>(k_pixel * coeff[k]);
             }
           }
+          // What the glossy sampler needs of each path's viewing direction, once per path
+          // rather than per sample (n / landed samples share a path).
+          if (n_lobe > 0) {
+            for (int a = 0; a < landed; ++a) views[a] = material.PrepareGlossy(paths[a].w);
+          }
           int m = 0;  // samples kept for evaluation
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
+            const Brdf::GlossyView& view = views[s % landed];
             const bool uniform = s < n_zone;
             Vec3 w_i;
             double p_lobe = -1;  // the glossy density at w_i, when the sampler already gave it
@@ -497,16 +504,16 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               const int j = s - n_zone;
               const double u_lobe = std::fmod((j + lobe_shift) / n_lobe, 1.0);
               const BrdfSample bs =
-                  material.SampleGlossy(path.w, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
+                  material.SampleGlossyAt(view, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
               if (bs.pdf <= 0 || bs.is_delta) continue;
               w_i = bs.w_i;
-              p_lobe = bs.pdf;  // SampleGlossy's pdf is GlossyPdf(path.w, w_i): not computed twice
+              p_lobe = bs.pdf;  // SampleGlossyAt's pdf is GlossyPdfAt(view, w_i): not computed twice
             }
             if (w_i.z <= 0) continue;
             const double theta_i = SphericalTheta(w_i), phi_i = SphericalPhi(w_i);
             const double p_zone = coverage.PdfAngles(w_i, theta_i, phi_i);
             if (p_zone <= 0) continue;  // not lit
-            if (n_lobe > 0 && p_lobe < 0) p_lobe = material.GlossyPdf(path.w, w_i);
+            if (n_lobe > 0 && p_lobe < 0) p_lobe = material.GlossyPdfAt(view, w_i);
             const double q = n_zone * p_zone + (n_lobe > 0 ? n_lobe * p_lobe : 0.0);
             weight[m] = 1.0 / q;  // balance heuristic: f cos / (n_zone p_zone + n_lobe p_lobe)
             if (!(weight[m] > 0) || !std::isfinite(weight[m])) continue;

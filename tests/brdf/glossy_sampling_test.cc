@@ -80,6 +80,38 @@ TEST(GlossySamplingTest, NetworkGlossyPartSamplesItsProxyLobes) {
   EXPECT_SAMPLING_MATCHES_PDF(GlossyPart(*brdf), w_o, 310, 1e-3, options);
 }
 
+// PrepareGlossy / SampleGlossyAt / GlossyPdfAt of the half-vector proxy's models take the
+// lobes' density directly; Brdf's own versions derive it from Sample() and the full Pdf(). The
+// two must agree: same directions, densities equal up to rounding.
+TEST(GlossySamplingTest, PreparedViewOfTheProxyMatchesTheDerivationFromTheMixture) {
+  for (const char* spec : {"merl:blue-acrylic", "merl:gold-metallic-paint", "merl:white-fabric"}) {
+    const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
+    testing::Rng rng(23);
+    int samples = 0;
+    for (int k = 0; k < 300; ++k) {
+      const Vec3 w_o = testing::RandomUpperDirection(rng);
+      const Brdf::GlossyView view = brdf->PrepareGlossy(w_o), base = brdf->Brdf::PrepareGlossy(w_o);
+      ASSERT_EQ(view.probability, base.probability) << spec;
+      const double u_lobe = rng.Uniform(), u0 = rng.Uniform(), u1 = rng.Uniform();
+      const BrdfSample direct = brdf->SampleGlossyAt(view, u_lobe, u0, u1);
+      const BrdfSample derived = brdf->Brdf::SampleGlossyAt(base, u_lobe, u0, u1);
+      EXPECT_EQ(direct.pdf > 0, derived.pdf > 0) << spec;
+      if (!(direct.pdf > 0) || !(derived.pdf > 0)) continue;
+      ++samples;
+      EXPECT_EQ(direct.w_i.x, derived.w_i.x) << spec;
+      EXPECT_EQ(direct.w_i.z, derived.w_i.z) << spec;
+      // The derivation subtracts the cosine part from the mixture: relative rounding of order
+      // 1e-16 times the ratio of the mixture to the lobe part, which stays below 1e3 here.
+      EXPECT_NEAR(direct.pdf, derived.pdf, 1e-12 * (1 + derived.pdf)) << spec;
+      const Vec3 w_i = testing::RandomUpperDirection(rng);
+      EXPECT_NEAR(brdf->GlossyPdfAt(view, w_i), brdf->Brdf::GlossyPdfAt(base, w_i),
+                  1e-12 * (1 + brdf->Brdf::GlossyPdfAt(base, w_i)))
+          << spec;
+    }
+    EXPECT_GT(samples, 250) << spec;  // the glossy part samples almost every w_o
+  }
+}
+
 TEST(GlossySamplingTest, LambertianHasNoGlossyPart) {
   const LambertianBrdf brdf(Rgb(0.5));
   const Vec3 w_o = SphericalDirection(0.3, 0.2);

@@ -139,6 +139,29 @@ TEST(NbrdfTest, BundledNamesAndErrors) {
   EXPECT_FALSE(brdf->IsEnergyConserving());
 }
 
+// A bundled material is read once per process: later FromName calls share the fitted sampler
+// and are the same function as a network read from the file directly.
+TEST(NbrdfTest, BundledMaterialsAreReadOncePerProcess) {
+  const auto first = NbrdfBrdf::FromName("gold-metallic-paint2");
+  const auto second = NbrdfBrdf::FromName("gold-metallic-paint2");
+  EXPECT_EQ(&first->sampler(), &second->sampler());
+  EXPECT_EQ(second->Spec(), "merl:gold-metallic-paint2");
+  const auto from_file =
+      NbrdfBrdf::FromFile(DataPath("data/materials/merl/gold-metallic-paint2.json"));
+  EXPECT_NE(&from_file->sampler(), &first->sampler());  // files are not cached: they may change
+  testing::Rng rng(7);
+  for (int k = 0; k < 50; ++k) {
+    const Vec3 w_i = testing::RandomUpperDirection(rng), w_o = testing::RandomUpperDirection(rng);
+    const Rgb a = second->Eval(w_i, w_o), b = from_file->Eval(w_i, w_o);
+    EXPECT_EQ(a.r, b.r);
+    EXPECT_EQ(a.b, b.b);
+    EXPECT_EQ(second->Pdf(w_o, w_i), from_file->Pdf(w_o, w_i));
+  }
+  // The same name in the other set is another file, and unknown names are still refused.
+  EXPECT_THROW(NbrdfBrdf::FromName("gold-metallic-paint2", "rgl"), InputError);
+  EXPECT_THROW(NbrdfBrdf::FromName("gold-metallic-paint9"), InputError);
+}
+
 // Writes text to a per-process temp file and returns ReadNbrdfNetwork's error ("" if none).
 std::string NetworkError(const std::string& text) {
   const std::string path =
