@@ -59,7 +59,7 @@ inline int CrossValidationBlock(int l, int l_prime, int folds) { return (l + l_p
 
 struct ModelSelectionOptions {
   int folds = 4;           // in [2, 16]
-  std::string preferred;   // a candidate's name, or empty: the lowest error wins
+  std::string preferred{}; // a candidate's name, or empty: the lowest error wins
   double margin = 0.25;    // in [0, 1): how much lower another's error must be to replace it
 
   // Throws InvalidOptions (an InputError) naming every field out of range.

@@ -21,7 +21,7 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint32_t kCacheVersion = 7;
+constexpr uint32_t kCacheVersion = 8;
 
 // chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
 // the direction it lights the sample center from), else the mean of its landed rays (the
