@@ -28,7 +28,7 @@ namespace {
 // Footprint points per axis: a pixel whose coarse points all fall on one side of the zone's
 // edges is integrated with those; one the edge crosses gets the fine grid.
 constexpr int kCoarse = 3, kFine = 16;
-constexpr int kCacheVersion = 4;
+constexpr int kPatternCacheVersion = 4;
 
 void HashBytes(uint64_t* h, const void* data, size_t size) { *h = Fnv1a64(data, size, *h); }
 
@@ -66,7 +66,7 @@ uint64_t PatternKey(const CapturePlan& plan, const RigCalibration& c) {
   const double zone[2] = {plan.theta_min_rad, plan.theta_max_rad};
   HashBytes(&h, zone, sizeof(zone));
   const int ints[5] = {plan.order, c.projector_width, c.projector_height, c.projector_bit_depth,
-                       kCacheVersion};
+                       kPatternCacheVersion};
   HashBytes(&h, ints, sizeof(ints));
   HashBytes(&h, &c.projector_black_fraction, sizeof(double));
   HashVector(&h, c.projector_response);

@@ -17,13 +17,11 @@
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
+#include "basis/stopwatch.h"
 
 namespace zbrdf {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void WriteRgbHalfExr(const std::string& path, const cv::Mat& rgb) {
   const int w = rgb.cols, h = rgb.rows;
@@ -84,7 +82,7 @@ ZonalProcessor::ZonalProcessor(const CapturePlan& plan, const std::vector<LobePa
     throw InputError("pattern set does not match the plan (" + std::to_string(patterns_.size()) +
                      " patterns for " + std::to_string(plan.lobes.size()) + " lobes)");
   }
-  const auto start = Clock::now();
+  const auto start = WallClock::now();
   grid_ = MakeExitantGrid(plan.zone(), options.theta_step_deg, options.phi_step_deg);
   resampler_ = std::make_unique<PixelToGrid>(calibration, grid_);
   data_.theta_min_rad = plan.theta_min_rad;
@@ -92,7 +90,7 @@ ZonalProcessor::ZonalProcessor(const CapturePlan& plan, const std::vector<LobePa
   data_.order = plan.order;
   data_.grid = grid_;
   data_.functions.resize(ShCount(plan.order));
-  stats_.zonal_seconds += Since(start);
+  stats_.zonal_seconds += SecondsSince(start);
 }
 
 ZonalProcessor::~ZonalProcessor() {
@@ -131,7 +129,7 @@ void ZonalProcessor::ImageWriter() {
       images_.pop_front();
       image_cv_.notify_all();
     }
-    const auto start = Clock::now();
+    const auto start = WallClock::now();
     try {
       WriteRgbHalfExr(item.first, HdrToRgb(item.second));
     } catch (...) {
@@ -140,7 +138,7 @@ void ZonalProcessor::ImageWriter() {
       image_cv_.notify_all();
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    stats_.image_seconds += Since(start);
+    stats_.image_seconds += SecondsSince(start);
   }
 }
 
@@ -227,18 +225,18 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
   skipped_positive_ = false;
   const PlannedLobe& planned = plan_.lobes[lobe];
   const std::string name = planned.Name();
-  auto start = Clock::now();
+  auto start = WallClock::now();
   HdrImage hdr = MergeExposures(frames, calibration_, "lobe " + name, options_.hdr);
   stats_.saturated_pixels += hdr.saturated_pixels;
-  stats_.hdr_seconds += Since(start);
+  stats_.hdr_seconds += SecondsSince(start);
   if (options_.write_hdr_images && !options_.hdr_folder.empty()) {
     QueueImage(options_.hdr_folder + "/" + SafeName(name) + ".exr", hdr);
   }
-  start = Clock::now();
+  start = WallClock::now();
   if (planned.kind == PlannedLobe::Kind::kDark) {
     dark_ = std::move(hdr);
     have_dark_ = true;
-    stats_.zonal_seconds += Since(start);
+    stats_.zonal_seconds += SecondsSince(start);
     return;
   }
   if (!have_dark_) throw InputError("the dark pattern must be processed before the lobes");
@@ -250,7 +248,7 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
   if (has_negative) {
     pending_ = std::move(hdr);
     pending_lobe_ = lobe;
-    stats_.zonal_seconds += Since(start);
+    stats_.zonal_seconds += SecondsSince(start);
     return;
   }
   // z = (X+ - D) / (K s+) - (X- - D) / (K s-), with the dark's variance entering through its
@@ -292,7 +290,7 @@ void ZonalProcessor::Process(int lobe, const std::vector<Frame>& frames) {
     pending_ = HdrImage();
     pending_lobe_ = -1;
   }
-  stats_.zonal_seconds += Since(start);
+  stats_.zonal_seconds += SecondsSince(start);
 }
 
 namespace {
@@ -355,7 +353,7 @@ GridImage FromRows(const ExitantGrid& grid, const std::vector<double>& h, double
 void ZonalProcessor::ProcessSkipped(int lobe) {
   const PlannedLobe& planned = plan_.lobes[lobe];
   if (planned.kind == PlannedLobe::Kind::kDark) throw InputError("the dark pattern cannot be skipped");
-  const auto start = Clock::now();
+  const auto start = WallClock::now();
   const int k = ShIndex(planned.l, planned.m);
   if (planned.kind == PlannedLobe::Kind::kPositive) {
     if (planned.m >= 0) {
@@ -402,7 +400,7 @@ void ZonalProcessor::ProcessSkipped(int lobe) {
   data_.functions[k] = FromRows(grid_, h, 2.0, coef, var);
   pending_ = HdrImage();
   pending_lobe_ = -1;
-  stats_.zonal_seconds += Since(start);
+  stats_.zonal_seconds += SecondsSince(start);
 }
 
 void ZonalProcessor::SynthesizeIsotropic(int l) {
@@ -461,9 +459,9 @@ ZonalData ZonalProcessor::Finish(int order) {
   }
   data_.order = order;
   data_.functions.resize(ShCount(order));
-  const auto start = Clock::now();
+  const auto start = WallClock::now();
   ProjectExitant(&data_);
-  stats_.zonal_seconds += Since(start);
+  stats_.zonal_seconds += SecondsSince(start);
   for (uint8_t f : data_.functions[0].filled) stats_.filled_cells += f;
   return std::move(data_);
 }

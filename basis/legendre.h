@@ -14,6 +14,8 @@
 // the rounding of s^m).
 #pragma once
 
+#include <cmath>
+
 namespace zbrdf {
 
 inline constexpr int kMaxLegendreDegree = 60;
@@ -37,5 +39,14 @@ void NormalizedLegendreOrder(int max_degree, int m, double x, double s, double* 
 // |dPbar/dx| * ulp(1) ~ l^2 * 1e-16 of accuracy.
 void NormalizedLegendreAll(int max_degree, long double x, long double s, double* out);
 void NormalizedLegendreOrder(int max_degree, int m, long double x, long double s, double* out);
+
+// cos(m delta) for m = 0..order, by the Chebyshev recurrence cos(m d) = 2 cos(d) cos((m-1) d) -
+// cos((m-2) d): the azimuthal factors that multiply the associated Legendre functions.
+inline void CosMultiples(int order, double delta, double* out) {
+  const double c = std::cos(delta);
+  out[0] = 1.0;
+  if (order >= 1) out[1] = c;
+  for (int m = 2; m <= order; ++m) out[m] = 2.0 * c * out[m - 1] - out[m - 2];
+}
 
 }  // namespace zbrdf

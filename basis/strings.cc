@@ -2,9 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <utility>
 
 namespace zbrdf {
+
+std::string AsciiLower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
 
 size_t EditDistance(const std::string& a, const std::string& b) {
   // Lowrance and Wagner's algorithm: d[i+1][j+1] is the distance between a[0, i) and b[0, j),

@@ -1,5 +1,5 @@
-// Names close to a mistyped one, for "did you mean" messages (unknown commands and flags of the
-// CLI, unknown bundled materials and rigs).
+// Small string utilities: names close to a mistyped one, for "did you mean" messages (unknown
+// commands and flags of the CLI, unknown bundled materials and rigs), and ASCII lower case.
 #pragma once
 
 #include <cstddef>
@@ -22,5 +22,8 @@ size_t EditDistance(const std::string& a, const std::string& b);
 std::vector<std::string> ClosestNames(const std::string& name,
                                       const std::vector<std::string>& candidates,
                                       size_t max_count = 3);
+
+// `text` with ASCII letters in lower case (file extensions, model and parameter names).
+std::string AsciiLower(std::string text);
 
 }  // namespace zbrdf

@@ -30,19 +30,19 @@ std::string GlslFloat(double value) {
   return s;
 }
 
-std::string Number(double value) {
+std::string ExplorerNumber(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.9g", value);
   return text;
 }
 
 std::string ColorParameter(const std::string& name, const Rgb& c) {
-  return "color " + name + " " + Number(c.r) + " " + Number(c.g) + " " + Number(c.b) + "\n";
+  return "color " + name + " " + ExplorerNumber(c.r) + " " + ExplorerNumber(c.g) + " " + ExplorerNumber(c.b) + "\n";
 }
 
 std::string FloatParameter(const std::string& name, double min, double max, double value) {
-  return "float " + name + " " + Number(min) + " " + Number(std::max(max, value)) + " " +
-         Number(value) + "\n";
+  return "float " + name + " " + ExplorerNumber(min) + " " + ExplorerNumber(std::max(max, value)) + " " +
+         ExplorerNumber(value) + "\n";
 }
 
 std::string FloatArray(const std::string& name, const std::vector<double>& values) {
@@ -350,7 +350,7 @@ double FloatOf(const ParsedFile& f, const std::string& name, const std::string& 
   return v[0];
 }
 
-std::string Col(const Rgb& c) { return Number(c.r) + "," + Number(c.g) + "," + Number(c.b); }
+std::string Col(const Rgb& c) { return ExplorerNumber(c.r) + "," + ExplorerNumber(c.g) + "," + ExplorerNumber(c.b); }
 
 }  // namespace
 
@@ -374,22 +374,22 @@ std::unique_ptr<Brdf> ReadBrdfExplorerFile(const std::string& path) {
   if (model == "lambert") return MakeBrdf("lambert:albedo=" + Col(ColorOf(f, "albedo", path)));
   if (model == "blinn-phong") {
     return MakeBrdf("blinn-phong:kd=" + Col(ColorOf(f, "kd", path)) +
-                    ",ks=" + Col(ColorOf(f, "ks", path)) + ",n=" + Number(FloatOf(f, "n", path)));
+                    ",ks=" + Col(ColorOf(f, "ks", path)) + ",n=" + ExplorerNumber(FloatOf(f, "n", path)));
   }
   if (model == "ward") {
     return MakeBrdf("ward:rho_d=" + Col(ColorOf(f, "rho_d", path)) +
                     ",rho_s=" + Col(ColorOf(f, "rho_s", path)) +
-                    ",alpha_x=" + Number(FloatOf(f, "alpha_x", path)) +
-                    ",alpha_y=" + Number(FloatOf(f, "alpha_y", path)));
+                    ",alpha_x=" + ExplorerNumber(FloatOf(f, "alpha_x", path)) +
+                    ",alpha_y=" + ExplorerNumber(FloatOf(f, "alpha_y", path)));
   }
   if (model == "as") {
     return MakeBrdf("as:rd=" + Col(ColorOf(f, "rd", path)) + ",rs=" + Col(ColorOf(f, "rs", path)) +
-                    ",nu=" + Number(FloatOf(f, "nu", path)) +
-                    ",nv=" + Number(FloatOf(f, "nv", path)));
+                    ",nu=" + ExplorerNumber(FloatOf(f, "nu", path)) +
+                    ",nv=" + ExplorerNumber(FloatOf(f, "nv", path)));
   }
   if (model == "ggx") {
-    return MakeBrdf("ggx:alpha_x=" + Number(FloatOf(f, "alpha_x", path)) +
-                    ",alpha_y=" + Number(FloatOf(f, "alpha_y", path)) +
+    return MakeBrdf("ggx:alpha_x=" + ExplorerNumber(FloatOf(f, "alpha_x", path)) +
+                    ",alpha_y=" + ExplorerNumber(FloatOf(f, "alpha_y", path)) +
                     ",F0=" + Col(ColorOf(f, "F0", path)) + ",kd=" + Col(ColorOf(f, "kd", path)));
   }
   if (model == "dbrdf") {

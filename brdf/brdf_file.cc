@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "basis/error.h"
+#include "basis/strings.h"
 #include "brdf/brdf_explorer.h"
 #include "brdf/dbrdf_file.h"
 #include "brdf/material_spec.h"
@@ -26,11 +27,6 @@ namespace zbrdf {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 }  // namespace
 
@@ -118,7 +114,7 @@ BrdfFile FromJson(const std::string& path) {
 }  // namespace
 
 BrdfFile ReadBrdfFile(const std::string& path) {
-  const std::string ext = Lower(fs::path(path).extension().string());
+  const std::string ext = AsciiLower(fs::path(path).extension().string());
   BrdfFile in;
   if (ext == ".exr") {
     in = FromExr(path);

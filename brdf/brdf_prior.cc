@@ -23,10 +23,10 @@
 namespace zbrdf {
 namespace {
 
-constexpr char kFormat[] = "zbrdf-prior-v1";
+constexpr char kPriorFormat[] = "zbrdf-prior-v1";
 // Largest finite half is 65504; atoms above this are scaled down by a per-atom factor.
 constexpr double kHalfCeiling = 60000.0;
-constexpr const char* kChannelNames[3] = {"R", "G", "B"};
+constexpr const char* kPriorChannelNames[3] = {"R", "G", "B"};
 
 }  // namespace
 
@@ -136,13 +136,13 @@ void WritePriorFile(const std::string& path, const BrdfPrior& prior) {
       data[static_cast<size_t>(a) * width + n] = half(static_cast<float>(prior.atoms(n, a) / scale));
     }
     atoms.push_back({{"material", prior.materials[a / 3]},
-                     {"channel", kChannelNames[a % 3]},
+                     {"channel", kPriorChannelNames[a % 3]},
                      {"scale", scale},
                      {"source", prior.sources[a / 3]}});
   }
   Imf::Header header(width, height);
   header.compression() = Imf::ZIP_COMPRESSION;
-  header.insert("zbrdf.format", Imf::StringAttribute(kFormat));
+  header.insert("zbrdf.format", Imf::StringAttribute(kPriorFormat));
   header.insert("zbrdf.grid", Imf::StringAttribute(std::to_string(prior.grid.theta_h_nodes()) +
                                                    " " + std::to_string(prior.grid.theta_d_nodes()) +
                                                    " " + std::to_string(prior.grid.phi_d_nodes())));
@@ -167,9 +167,9 @@ BrdfPrior ReadPriorFile(const std::string& path) {
       return a->value();
     };
     if (const auto* f = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.format");
-        !f || f->value() != kFormat) {
+        !f || f->value() != kPriorFormat) {
       throw InputError(path + " is not a zbrdf prior (zbrdf.format is not " +
-                       std::string(kFormat) + "); `zbrdf prior build` writes one");
+                       std::string(kPriorFormat) + "); `zbrdf prior build` writes one");
     }
     std::istringstream dims(text("zbrdf.grid"));
     int nh = 0, nd = 0, np = 0;

@@ -22,8 +22,8 @@
 namespace zbrdf {
 namespace {
 
-constexpr char kFormat[] = "zbrdf-dbrdf-v1";
-constexpr char kModel[] =
+constexpr char kDBrdfFormat[] = "zbrdf-dbrdf-v1";
+constexpr char kDBrdfModel[] =
     "f_r = c p(h) F(w_i.h) / (w_i.n + w_o.n - (w_i.n)(w_o.n)) + kd / pi; "
     "F = F0 + (1 - F0) (1 - w_i.h)^5; p at theta_h = y (pi/2) / (height - 1), "
     "phi_h = x 2 pi / width, linear in between";
@@ -37,8 +37,8 @@ void WriteDBrdfFile(const std::string& path, const DBrdf& model, const nlohmann:
   const HalfVectorTable& table = model.table();
   Imf::Header header(table.phi_samples, table.theta_samples);
   header.compression() = Imf::ZIP_COMPRESSION;
-  header.insert("zbrdf.format", Imf::StringAttribute(kFormat));
-  header.insert("zbrdf.model", Imf::StringAttribute(kModel));
+  header.insert("zbrdf.format", Imf::StringAttribute(kDBrdfFormat));
+  header.insert("zbrdf.model", Imf::StringAttribute(kDBrdfModel));
   header.insert("zbrdf.c", Imf::V3dAttribute(ToV3d(model.c())));
   header.insert("zbrdf.F0", Imf::DoubleAttribute(model.f0()));
   header.insert("zbrdf.kd", Imf::V3dAttribute(ToV3d(model.kd())));
@@ -55,21 +55,21 @@ void WriteDBrdfFile(const std::string& path, const DBrdf& model, const nlohmann:
 
 namespace {
 
-struct Contents {
+struct DBrdfContents {
   DBrdfParams params;
   nlohmann::json info = nlohmann::json::object();
 };
 
-Contents ReadContents(const std::string& path) {
-  Contents out;
+DBrdfContents ReadContents(const std::string& path) {
+  DBrdfContents out;
   CheckExrHeaderSizes(path, path);
   try {
     Imf::InputFile file(path.c_str());
     const Imf::Header& h = file.header();
     const auto* format = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.format");
-    if (!format || format->value() != kFormat) {
+    if (!format || format->value() != kDBrdfFormat) {
       throw InputError(path + " is not a zbrdf D-BRDF file (zbrdf.format is not " +
-                       std::string(kFormat) + ")");
+                       std::string(kDBrdfFormat) + ")");
     }
     auto v3 = [&](const char* name) {
       const auto* a = h.findTypedAttribute<Imf::V3dAttribute>(name);
@@ -116,7 +116,7 @@ Contents ReadContents(const std::string& path) {
 }  // namespace
 
 std::unique_ptr<DBrdf> ReadDBrdfFile(const std::string& path) {
-  Contents contents = ReadContents(path);
+  DBrdfContents contents = ReadContents(path);
   DBrdfParams& params = contents.params;
   const double integral = params.p_h.NormalizationIntegral();
   if (!(integral > 0) || !std::isfinite(integral)) {

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "basis/error.h"
+#include "basis/strings.h"
 #include "brdf/ashikhmin_shirley.h"
 #include "brdf/blinn_phong.h"
 #include "brdf/brdf_file.h"
@@ -71,12 +72,6 @@ const std::vector<ModelInfo>& Models() {
        "target:white|graycard|mirror  calibration targets: 95% white, 18% gray, mirror R 0.92"},
   };
   return models;
-}
-
-std::string Lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
 }
 
 std::string Trim(const std::string& text) {
@@ -175,9 +170,9 @@ class Parameters {
     const size_t equals = token.find('=');
     std::string value_text = token;
     if (equals != std::string::npos) {
-      const std::string key = Lower(Trim(token.substr(0, equals)));
+      const std::string key = AsciiLower(Trim(token.substr(0, equals)));
       const auto known = std::find_if(model_.keys.begin(), model_.keys.end(),
-                                      [&](const char* k) { return Lower(k) == key; });
+                                      [&](const char* k) { return AsciiLower(k) == key; });
       if (known == model_.keys.end()) {
         Fail("unknown parameter '" + Trim(token.substr(0, equals)) + "' for " + model_.name +
              "; valid: " + ValidKeys());
@@ -281,7 +276,7 @@ std::unique_ptr<Brdf> MakeFromFile(const std::string& spec, const std::string& p
     throw InputError("material '" + spec +
                      "': file: needs a path, e.g. file:gold.binary or file:gold.json");
   }
-  const std::string extension = Lower(std::filesystem::path(path).extension().string());
+  const std::string extension = AsciiLower(std::filesystem::path(path).extension().string());
   if (extension == ".binary") return MerlBrdf::FromFile(path);
   if (extension == ".json") return NbrdfBrdf::FromFile(path);
   if (extension == ".bsdf") return RglBrdf::FromFile(path);
@@ -303,7 +298,7 @@ std::unique_ptr<Brdf> MakeBrdf(const std::string& spec) {
                      "models: " +
                      JoinModelNames());
   }
-  std::string model_name = Lower(Trim(spec.substr(0, colon)));
+  std::string model_name = AsciiLower(Trim(spec.substr(0, colon)));
   if (model_name == "lambertian") model_name = "lambert";
   if (model_name == "ashikhmin-shirley") model_name = "as";
   const std::string rest = Trim(spec.substr(colon + 1));
@@ -326,7 +321,7 @@ std::unique_ptr<Brdf> MakeBrdf(const std::string& spec) {
     }
     if (model_name == "file") return MakeFromFile(spec, rest);
     if (model_name == "target") {
-      const std::string target = Lower(rest);
+      const std::string target = AsciiLower(rest);
       if (target == "white") return std::make_unique<LambertianBrdf>(Rgb(kWhiteTargetAlbedo));
       if (target == "graycard" || target == "gray-card") {
         return std::make_unique<LambertianBrdf>(Rgb(kGrayCardAlbedo));
@@ -351,7 +346,7 @@ std::vector<std::string> MaterialModelNames() {
 std::string MaterialShortName(const std::string& spec) {
   const size_t colon = spec.find(':');
   if (colon == std::string::npos) return spec;
-  const std::string model = Lower(spec.substr(0, colon));
+  const std::string model = AsciiLower(spec.substr(0, colon));
   if (model == "merl" || model == "rgl") return spec.substr(colon + 1);
   if (model == "file") return std::filesystem::path(spec.substr(colon + 1)).stem().string();
   return model;

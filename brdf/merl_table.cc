@@ -15,8 +15,8 @@ namespace {
 
 constexpr std::array<double, 3> kScales = {MerlTable::kRedScale, MerlTable::kGreenScale,
                                            MerlTable::kBlueScale};
-constexpr std::array<const char*, 3> kChannelNames = {"red", "green", "blue"};
-constexpr size_t kHeaderBytes = 3 * sizeof(int32_t);
+constexpr std::array<const char*, 3> kMerlChannelNames = {"red", "green", "blue"};
+constexpr size_t kMerlHeaderBytes = 3 * sizeof(int32_t);
 constexpr size_t kDataBytes = 3 * MerlTable::kBinCount * sizeof(double);
 
 // Little-endian decoding and encoding, whatever the host's byte order.
@@ -82,7 +82,7 @@ MerlTable ReadMerlBinary(const std::string& path) {
   }
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)),
                                    std::istreambuf_iterator<char>());
-  if (bytes.size() < kHeaderBytes) {
+  if (bytes.size() < kMerlHeaderBytes) {
     throw InputError("MERL file " + path + ": truncated: " + std::to_string(bytes.size()) +
                      " bytes, too short for the 12-byte header of three int32 dimensions");
   }
@@ -95,7 +95,7 @@ MerlTable ReadMerlBinary(const std::string& path) {
                      std::to_string(dims[1]) + " " + std::to_string(dims[2]) +
                      ", expected 90 90 180; it is not an isotropic MERL .binary table");
   }
-  const size_t data_bytes = bytes.size() - kHeaderBytes;
+  const size_t data_bytes = bytes.size() - kMerlHeaderBytes;
   if (data_bytes < kDataBytes) {
     throw InputError("MERL file " + path + ": truncated: " + std::to_string(data_bytes) +
                      " bytes of data, expected " + std::to_string(kDataBytes) +
@@ -108,13 +108,13 @@ MerlTable ReadMerlBinary(const std::string& path) {
   }
   MerlTable table;
   table.f.resize(MerlTable::kBinCount);
-  const unsigned char* data = bytes.data() + kHeaderBytes;
+  const unsigned char* data = bytes.data() + kMerlHeaderBytes;
   for (int channel = 0; channel < 3; ++channel) {
     for (size_t k = 0; k < MerlTable::kBinCount; ++k) {
       const double stored =
           DecodeLittleEndian<double>(data + (channel * MerlTable::kBinCount + k) * sizeof(double));
       if (!std::isfinite(stored)) {
-        throw InputError("MERL file " + path + ": the " + kChannelNames[channel] +
+        throw InputError("MERL file " + path + ": the " + kMerlChannelNames[channel] +
                          " value of bin " + std::to_string(k) +
                          " is not a finite number; the file is corrupt");
       }
@@ -130,11 +130,11 @@ void WriteMerlBinary(const std::string& path, const MerlTable& table) {
                      std::to_string(table.f.size()) +
                      " bins, expected 90 x 90 x 180 = " + std::to_string(MerlTable::kBinCount));
   }
-  std::vector<unsigned char> bytes(kHeaderBytes + kDataBytes);
+  std::vector<unsigned char> bytes(kMerlHeaderBytes + kDataBytes);
   EncodeLittleEndian<int32_t>(MerlTable::kThetaHalfBins, &bytes[0]);
   EncodeLittleEndian<int32_t>(MerlTable::kThetaDiffBins, &bytes[4]);
   EncodeLittleEndian<int32_t>(MerlTable::kPhiDiffBins, &bytes[8]);
-  unsigned char* data = bytes.data() + kHeaderBytes;
+  unsigned char* data = bytes.data() + kMerlHeaderBytes;
   for (int channel = 0; channel < 3; ++channel) {
     for (size_t k = 0; k < MerlTable::kBinCount; ++k) {
       EncodeLittleEndian<double>(table.f[k][channel] / kScales[channel],

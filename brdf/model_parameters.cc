@@ -8,7 +8,7 @@
 namespace zbrdf {
 namespace {
 
-[[noreturn]] void Fail(std::string_view model, std::string_view key, std::string_view rule,
+[[noreturn]] void FailParameter(std::string_view model, std::string_view key, std::string_view rule,
                        const std::string& got) {
   throw InputError(std::string(model) + ": " + std::string(key) + " must be " + std::string(rule) +
                    " (got " + got + ")");
@@ -16,14 +16,14 @@ namespace {
 
 void Check(std::string_view model, std::string_view key, double value, bool ok,
            std::string_view rule) {
-  if (!std::isfinite(value)) Fail(model, key, "a finite number", FormatDouble(value));
-  if (!ok) Fail(model, key, rule, FormatDouble(value));
+  if (!std::isfinite(value)) FailParameter(model, key, "a finite number", FormatDouble(value));
+  if (!ok) FailParameter(model, key, rule, FormatDouble(value));
 }
 
 void CheckRgb(std::string_view model, std::string_view key, const Rgb& value, bool ok,
               std::string_view rule) {
-  if (!value.IsFinite()) Fail(model, key, "finite numbers", FormatRgb(value));
-  if (!ok) Fail(model, key, rule, FormatRgb(value));
+  if (!value.IsFinite()) FailParameter(model, key, "finite numbers", FormatRgb(value));
+  if (!ok) FailParameter(model, key, rule, FormatRgb(value));
 }
 
 }  // namespace

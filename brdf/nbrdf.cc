@@ -19,45 +19,45 @@ namespace {
 constexpr int kInputs = 6;
 constexpr int kOutputs = 3;
 constexpr int kMaxHidden = 256;
-constexpr const char* kFormat = "nbrdf-mlp-v1";
+constexpr const char* kNetworkFormat = "nbrdf-mlp-v1";
 
 // Pairs per block of EvalBatch; a multiple of kTile.
 constexpr int kBlock = 64;
 // Pairs whose accumulators a layer keeps in registers at once.
 constexpr int kTile = 16;
 
-[[noreturn]] void Fail(const std::string& path, const std::string& what) {
+[[noreturn]] void FailNetworkFile(const std::string& path, const std::string& what) {
   throw InputError("network file " + path + ": " + what);
 }
 
 NbrdfNetwork::Layer ReadLayer(const std::string& path, const nlohmann::json& json, int index) {
   const std::string name = "layers[" + std::to_string(index) + "]";
-  if (!json.is_object()) Fail(path, name + " must be an object");
+  if (!json.is_object()) FailNetworkFile(path, name + " must be an object");
   NbrdfNetwork::Layer layer;
   for (const char* key : {"in", "out"}) {
     if (!json.contains(key) || !json[key].is_number_integer()) {
-      Fail(path, name + "." + key + " must be an integer");
+      FailNetworkFile(path, name + "." + key + " must be an integer");
     }
   }
   layer.in = json["in"].get<int>();
   layer.out = json["out"].get<int>();
   if (layer.in < 1 || layer.out < 1) {
-    Fail(path, name + " has in = " + std::to_string(layer.in) +
+    FailNetworkFile(path, name + " has in = " + std::to_string(layer.in) +
                    ", out = " + std::to_string(layer.out) + "; both must be >= 1");
   }
   const auto read_numbers = [&](const char* key, size_t count, std::vector<double>* values) {
     if (!json.contains(key) || !json[key].is_array()) {
-      Fail(path, name + "." + key + " must be an array of numbers");
+      FailNetworkFile(path, name + "." + key + " must be an array of numbers");
     }
     const nlohmann::json& array = json[key];
     if (array.size() != count) {
-      Fail(path, name + "." + key + " has " + std::to_string(array.size()) + " values, expected " +
+      FailNetworkFile(path, name + "." + key + " has " + std::to_string(array.size()) + " values, expected " +
                      std::to_string(count));
     }
     values->reserve(count);
     for (size_t k = 0; k < count; ++k) {
       if (!array[k].is_number() || !std::isfinite(array[k].get<double>())) {
-        Fail(path, name + "." + key + "[" + std::to_string(k) + "] is not a finite number");
+        FailNetworkFile(path, name + "." + key + "[" + std::to_string(k) + "] is not a finite number");
       }
       values->push_back(array[k].get<double>());
     }
@@ -166,19 +166,19 @@ std::vector<double> Transposed(const NbrdfNetwork::Layer& layer) {
 
 NbrdfNetwork ReadNbrdfNetwork(const std::string& path) {
   std::ifstream file(path);
-  if (!file) Fail(path, "cannot open it; check the path and permissions");
+  if (!file) FailNetworkFile(path, "cannot open it; check the path and permissions");
   nlohmann::json json;
   try {
     json = nlohmann::json::parse(file);
   } catch (const nlohmann::json::exception& e) {
-    Fail(path, std::string("not valid JSON (") + e.what() + ")");
+    FailNetworkFile(path, std::string("not valid JSON (") + e.what() + ")");
   }
-  if (!json.is_object() || !json.contains("format") || json["format"] != kFormat) {
-    Fail(path,
-         std::string("\"format\" must be \"") + kFormat + "\" (see data/materials/README.md)");
+  if (!json.is_object() || !json.contains("format") || json["format"] != kNetworkFormat) {
+    FailNetworkFile(path,
+         std::string("\"format\" must be \"") + kNetworkFormat + "\" (see data/materials/README.md)");
   }
   if (!json.contains("layers") || !json["layers"].is_array() || json["layers"].size() != 3) {
-    Fail(path, "\"layers\" must be an array of 3 dense layers");
+    FailNetworkFile(path, "\"layers\" must be an array of 3 dense layers");
   }
   NbrdfNetwork network;
   if (json.contains("material") && json["material"].is_string()) {
@@ -187,19 +187,19 @@ NbrdfNetwork ReadNbrdfNetwork(const std::string& path) {
   for (int k = 0; k < 3; ++k) network.layers[k] = ReadLayer(path, json["layers"][k], k);
   const auto& layers = network.layers;
   if (layers[0].in != kInputs) {
-    Fail(path, "layers[0].in is " + std::to_string(layers[0].in) + ", expected 6 inputs");
+    FailNetworkFile(path, "layers[0].in is " + std::to_string(layers[0].in) + ", expected 6 inputs");
   }
   if (layers[2].out != kOutputs) {
-    Fail(path, "layers[2].out is " + std::to_string(layers[2].out) + ", expected 3 (RGB)");
+    FailNetworkFile(path, "layers[2].out is " + std::to_string(layers[2].out) + ", expected 3 (RGB)");
   }
   for (int k = 1; k < 3; ++k) {
     if (layers[k].in != layers[k - 1].out) {
-      Fail(path, "layers[" + std::to_string(k) + "].in is " + std::to_string(layers[k].in) +
+      FailNetworkFile(path, "layers[" + std::to_string(k) + "].in is " + std::to_string(layers[k].in) +
                      " but layers[" + std::to_string(k - 1) + "].out is " +
                      std::to_string(layers[k - 1].out));
     }
     if (layers[k].in > kMaxHidden) {
-      Fail(path, "hidden layer " + std::to_string(k) + " has " + std::to_string(layers[k].in) +
+      FailNetworkFile(path, "hidden layer " + std::to_string(k) + " has " + std::to_string(layers[k].in) +
                      " units; at most 256 are supported");
     }
   }

@@ -20,7 +20,7 @@
 namespace zbrdf {
 namespace {
 
-constexpr char kFormat[] = "zbrdf-sh-v1";
+constexpr char kShFormat[] = "zbrdf-sh-v1";
 constexpr char kQuantity[] = "f_r*cos(theta_i)";
 constexpr char kNormalization[] =
     "real spherical harmonics, orthonormal on the unit sphere, Condon-Shortley phase: "
@@ -29,7 +29,7 @@ constexpr char kNormalization[] =
     "K_lm = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!), P_l^m with the (-1)^m phase; sh-even/sh-odd: "
     "the Y_lm with l+|m| even/odd, same normalization; hsh: H_lm(theta, phi) = sqrt(2) "
     "Y_lm(arccos(2 cos theta - 1), phi) on the upper hemisphere, 0 below";
-const char* kChannel[3] = {"R", "G", "B"};
+const char* kShChannelNames[3] = {"R", "G", "B"};
 
 }  // namespace
 
@@ -67,14 +67,14 @@ std::string ShBrdfData::Problems() const {
   const int n = size();
   for (int ch = 0; ch < 3; ++ch) {
     if (coefficients[ch].rows() != n || coefficients[ch].cols() != n) {
-      return std::string("SH data: channel ") + kChannel[ch] + " coefficients are not " +
+      return std::string("SH data: channel ") + kShChannelNames[ch] + " coefficients are not " +
              std::to_string(n) + " x " + std::to_string(n);
     }
     if (!coefficients[ch].allFinite()) {
-      return std::string("SH data: channel ") + kChannel[ch] + " has a non-finite coefficient";
+      return std::string("SH data: channel ") + kShChannelNames[ch] + " has a non-finite coefficient";
     }
     if (exitant[ch].size() != static_cast<size_t>(exitant_theta) * exitant_phi * n) {
-      return std::string("SH data: channel ") + kChannel[ch] +
+      return std::string("SH data: channel ") + kShChannelNames[ch] +
              " per-exitant table has the wrong size (call FillExitantTables())";
     }
   }
@@ -94,7 +94,7 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
   const TargetBasis basis(data.target, data.order);
   const int n = basis.size();
   TwoPartExrWriter writer("exitant", data.exitant_phi, data.exitant_theta, "tensor", n);
-  writer.SetString("zbrdf.format", kFormat);
+  writer.SetString("zbrdf.format", kShFormat);
   writer.SetString("zbrdf.target", TargetName(data.target));
   writer.SetInt("zbrdf.order", data.order);
   writer.SetDouble("zbrdf.theta_min_rad", data.theta_min_rad);
@@ -106,7 +106,7 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
   for (int a = 0; a < n; ++a) {
     const std::string layer = ShLayerName(data.target, basis.degree(a), basis.azimuthal_order(a));
     for (int ch = 0; ch < 3; ++ch) {
-      writer.AddImageChannel(layer + "." + kChannel[ch], data.exitant[ch].data() + a, n,
+      writer.AddImageChannel(layer + "." + kShChannelNames[ch], data.exitant[ch].data() + a, n,
                              static_cast<size_t>(n) * data.exitant_phi);
     }
   }
@@ -117,7 +117,7 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
         tensor[static_cast<size_t>(a) * n + b] = static_cast<float>(data.coefficients[ch](a, b));
       }
     }
-    writer.AddTensorChannel(std::string("y.") + kChannel[ch], std::move(tensor));
+    writer.AddTensorChannel(std::string("y.") + kShChannelNames[ch], std::move(tensor));
   }
   writer.Write(path, "SH file " + path);
 }
@@ -138,9 +138,9 @@ ShBrdfData ReadShFile(const std::string& path) {
     }
     const Imf::Header& h = file.header(tensor_part);
     const auto* format = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.format");
-    if (!format || format->value() != kFormat) {
+    if (!format || format->value() != kShFormat) {
       throw InputError(path + " is not a zbrdf SH file (zbrdf.format is not " +
-                       std::string(kFormat) + ")");
+                       std::string(kShFormat) + ")");
     }
     auto get_double = [&](const char* name) {
       const auto* a = h.findTypedAttribute<Imf::DoubleAttribute>(name);
@@ -181,7 +181,7 @@ ShBrdfData ReadShFile(const std::string& path) {
     std::array<std::vector<float>, 3> tensor;
     Imf::FrameBuffer tfb;
     for (int ch = 0; ch < 3; ++ch) {
-      const std::string name = std::string("y.") + kChannel[ch];
+      const std::string name = std::string("y.") + kShChannelNames[ch];
       require(h, name);
       tensor[ch].resize(static_cast<size_t>(n) * n);
       char* base = reinterpret_cast<char*>(tensor[ch].data()) -
@@ -211,7 +211,7 @@ ShBrdfData ReadShFile(const std::string& path) {
     for (int a = 0; a < n; ++a) {
       const std::string layer = ShLayerName(data.target, basis.degree(a), basis.azimuthal_order(a));
       for (int ch = 0; ch < 3; ++ch) {
-        const std::string name = layer + "." + kChannel[ch];
+        const std::string name = layer + "." + kShChannelNames[ch];
         require(eh, name);
         char* base = reinterpret_cast<char*>(data.exitant[ch].data() + a) -
                      (static_cast<ptrdiff_t>(ew.min.y) * width + ew.min.x) *

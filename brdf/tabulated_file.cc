@@ -19,8 +19,8 @@
 namespace zbrdf {
 namespace {
 
-constexpr char kFormat[] = "zbrdf-tabulated-v1";
-constexpr char kModel[] =
+constexpr char kTabulatedFormat[] = "zbrdf-tabulated-v1";
+constexpr char kTabulatedModel[] =
     "isotropic f_r in 1/sr at nodes of (theta_h, theta_d, phi_d) (Rusinkiewicz 1998, MERL's "
     "rotation convention): theta_h = (pi/2) (ih/(nh-1))^2, theta_d = (pi/2) id/(nd-1), phi_d = "
     "(pi/2) ip/(np-1), phi_d folded into [0, pi/2] by reciprocity and bilateral symmetry; "
@@ -28,23 +28,23 @@ constexpr char kModel[] =
 constexpr const char* kValue[3] = {"R", "G", "B"};
 constexpr const char* kSigma[3] = {"sigma.R", "sigma.G", "sigma.B"};
 
-struct Contents {
+struct TabulatedContents {
   std::unique_ptr<HalfDiffGrid> grid;
   std::vector<Rgb> values, sigma;
   nlohmann::json info = nlohmann::json::object();
 };
 
-Contents Read(const std::string& path, bool pixels) {
+TabulatedContents Read(const std::string& path, bool pixels) {
   const std::string what = "tabulated BRDF file " + path;
   CheckExrHeaderSizes(path, what);
-  Contents out;
+  TabulatedContents out;
   try {
     Imf::InputFile file(path.c_str());
     const Imf::Header& h = file.header();
     const auto* format = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.format");
-    if (!format || format->value() != kFormat) {
+    if (!format || format->value() != kTabulatedFormat) {
       throw InputError(path + " is not a zbrdf tabulated BRDF file (zbrdf.format is not " +
-                       std::string(kFormat) + ")");
+                       std::string(kTabulatedFormat) + ")");
     }
     const auto* grid = h.findTypedAttribute<Imf::StringAttribute>("zbrdf.grid");
     if (!grid) throw InputError(what + ": header attribute zbrdf.grid is missing");
@@ -103,11 +103,11 @@ void WriteTabulatedFile(const std::string& path, const TabulatedBrdf& brdf,
   const int width = grid.phi_d_nodes(), height = grid.theta_h_nodes() * grid.theta_d_nodes();
   Imf::Header header(width, height);
   header.compression() = Imf::ZIP_COMPRESSION;
-  header.insert("zbrdf.format", Imf::StringAttribute(kFormat));
+  header.insert("zbrdf.format", Imf::StringAttribute(kTabulatedFormat));
   header.insert("zbrdf.grid", Imf::StringAttribute(std::to_string(grid.theta_h_nodes()) + " " +
                                                    std::to_string(grid.theta_d_nodes()) + " " +
                                                    std::to_string(grid.phi_d_nodes())));
-  header.insert("zbrdf.model", Imf::StringAttribute(kModel));
+  header.insert("zbrdf.model", Imf::StringAttribute(kTabulatedModel));
   header.insert("zbrdf.info", Imf::StringAttribute(info.dump()));
   const bool has_sigma = !brdf.sigma().empty();
   std::vector<std::vector<float>> planes(has_sigma ? 6 : 3, std::vector<float>(grid.size()));
@@ -128,7 +128,7 @@ void WriteTabulatedFile(const std::string& path, const TabulatedBrdf& brdf,
 }
 
 std::unique_ptr<TabulatedBrdf> ReadTabulatedFile(const std::string& path, const std::string& spec) {
-  Contents c = Read(path, true);
+  TabulatedContents c = Read(path, true);
   try {
     return std::make_unique<TabulatedBrdf>(*c.grid, std::move(c.values), std::move(c.sigma),
                                            spec.empty() ? "file:" + path : spec);

@@ -16,15 +16,15 @@ namespace {
 constexpr const char* kFormat = "zbrdf-calibration-v1";
 
 nlohmann::json Vec(const Vec3& v) { return {v.x, v.y, v.z}; }
-nlohmann::json Pair(const double v[2]) { return {v[0], v[1]}; }
+nlohmann::json CalibrationPair(const double v[2]) { return {v[0], v[1]}; }
 
 nlohmann::json MisalignmentJson(const Misalignment& m) {
   return {{"camera_offset_mm", Vec(m.camera_offset_mm)},
-          {"camera_tilt_deg", Pair(m.camera_tilt_deg)},
+          {"camera_tilt_deg", CalibrationPair(m.camera_tilt_deg)},
           {"projector_offset_mm", Vec(m.projector_offset_mm)},
-          {"projector_tilt_deg", Pair(m.projector_tilt_deg)},
+          {"projector_tilt_deg", CalibrationPair(m.projector_tilt_deg)},
           {"parabola_offset_mm", Vec(m.parabola_offset_mm)},
-          {"parabola_tilt_deg", Pair(m.parabola_tilt_deg)}};
+          {"parabola_tilt_deg", CalibrationPair(m.parabola_tilt_deg)}};
 }
 
 Misalignment MisalignmentFromJson(const nlohmann::json& j) {

@@ -17,7 +17,7 @@ struct PairStats {
 };
 
 // Mean of (A + B) / 2 and var(A - B) / 2 over the selected pixels.
-PairStats Pair(const Frame& a, const Frame& b, const std::vector<uint8_t>& select) {
+PairStats NoisePair(const Frame& a, const Frame& b, const std::vector<uint8_t>& select) {
   double sum = 0, sum_d = 0, sum_d2 = 0;
   size_t n = 0;
   for (size_t i = 0; i < a.data.size(); ++i) {
@@ -62,7 +62,7 @@ NoiseResult CalibrateNoise(CalibrationRig& rig, const RigCalibration& c, const N
                       std::to_string(c.camera_width) + "x" + std::to_string(c.camera_height));
   }
   const std::vector<uint8_t> all(pixels, 1);
-  const PairStats dark = Pair(d1, d2, all);
+  const PairStats dark = NoisePair(d1, d2, all);
 
   // Light pairs under full white.
   ShowPattern(rig, UniformPattern(c, (1 << c.projector_bit_depth) - 1));
@@ -81,7 +81,7 @@ NoiseResult CalibrateNoise(CalibrationRig& rig, const RigCalibration& c, const N
     for (size_t i = 0; i < pixels; ++i) {
       select[i] = lit[i] && 0.5 * (a.data[i] + b.data[i]) - dark.mean < linear_limit;
     }
-    const PairStats s = Pair(a, b, select);
+    const PairStats s = NoisePair(a, b, select);
     if (s.pixels < 100) continue;
     PhotonTransferPoint p;
     p.exposure_us = t;

@@ -13,7 +13,7 @@ namespace {
 constexpr uint8_t kFlagRead = 0x80;
 constexpr uint8_t kFlagReply = 0x40;
 constexpr uint8_t kFlagNack = 0x20;
-constexpr size_t kHeaderBytes = 4;
+constexpr size_t kReportHeaderBytes = 4;
 
 struct CommandName {
   uint16_t code;
@@ -113,8 +113,8 @@ Dlpc350Reply DecodeDlpc350Reply(const Dlpc350Report& report) {
   reply.nack = (report[0] & kFlagNack) != 0;
   reply.sequence = report[1];
   const size_t length = static_cast<size_t>(report[2]) | static_cast<size_t>(report[3]) << 8;
-  const size_t n = std::min(length, report.size() - kHeaderBytes);
-  reply.data.assign(report.begin() + kHeaderBytes, report.begin() + kHeaderBytes + n);
+  const size_t n = std::min(length, report.size() - kReportHeaderBytes);
+  reply.data.assign(report.begin() + kReportHeaderBytes, report.begin() + kReportHeaderBytes + n);
   return reply;
 }
 

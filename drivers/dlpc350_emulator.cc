@@ -6,16 +6,16 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint8_t kFlagRead = 0x80;
-constexpr uint8_t kFlagReply = 0x40;
-constexpr uint8_t kFlagNack = 0x20;
+constexpr uint8_t kEmulatedFlagRead = 0x80;
+constexpr uint8_t kEmulatedFlagReply = 0x40;
+constexpr uint8_t kEmulatedFlagNack = 0x20;
 
 uint32_t U32(const std::vector<uint8_t>& p, size_t at) {
   return static_cast<uint32_t>(p[at]) | static_cast<uint32_t>(p[at + 1]) << 8 |
          static_cast<uint32_t>(p[at + 2]) << 16 | static_cast<uint32_t>(p[at + 3]) << 24;
 }
 
-void PutU32(std::vector<uint8_t>* out, uint32_t v) {
+void AppendU32(std::vector<uint8_t>* out, uint32_t v) {
   for (int i = 0; i < 4; ++i) out->push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
 
@@ -100,21 +100,21 @@ void Dlpc350Emulator::Handle(const std::vector<uint8_t>& message) {
   if (message.size() < 6) return;  // too short to carry a command: the controller ignores it
   const uint8_t flags = message[0];
   const uint8_t sequence = message[1];
-  const bool read = (flags & kFlagRead) != 0;
-  const bool reply_wanted = (flags & kFlagReply) != 0;
+  const bool read = (flags & kEmulatedFlagRead) != 0;
+  const bool reply_wanted = (flags & kEmulatedFlagReply) != 0;
   const uint16_t command = static_cast<uint16_t>(message[4] | message[5] << 8);
   const std::vector<uint8_t> payload(message.begin() + 6, message.end());
   const bool forced_nack = s.forced_nacks.count(command) > 0;
   if (read) {
     std::vector<uint8_t> data;
     const bool ok = !forced_nack && ReadValue(command, &data);
-    Reply(static_cast<uint8_t>(kFlagRead | kFlagReply | (ok ? 0 : kFlagNack)), sequence,
+    Reply(static_cast<uint8_t>(kEmulatedFlagRead | kEmulatedFlagReply | (ok ? 0 : kEmulatedFlagNack)), sequence,
           ok ? data : std::vector<uint8_t>{});
     return;
   }
   const bool ok = !forced_nack && ApplyWrite(command, payload);
   if (reply_wanted || !ok) {
-    Reply(static_cast<uint8_t>(kFlagReply | (ok ? 0 : kFlagNack)), sequence, {});
+    Reply(static_cast<uint8_t>(kEmulatedFlagReply | (ok ? 0 : kEmulatedFlagNack)), sequence, {});
   }
 }
 
@@ -289,8 +289,8 @@ bool Dlpc350Emulator::ReadValue(uint16_t command, std::vector<uint8_t>* d) {
       return true;
     case dlpc350::kPatternExposure:
       d->clear();
-      PutU32(d, s.pattern_exposure_us);
-      PutU32(d, s.pattern_period_us);
+      AppendU32(d, s.pattern_exposure_us);
+      AppendU32(d, s.pattern_period_us);
       return true;
     case dlpc350::kPatternConfig:
       *d = s.pattern_config;

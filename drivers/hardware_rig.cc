@@ -15,7 +15,7 @@ namespace zbrdf {
 
 namespace {
 
-std::string Number(double value) {
+std::string FormatSetting(double value) {
   std::ostringstream out;
   out << value;
   return out.str();
@@ -79,7 +79,7 @@ class FieldReader {
       return std::nullopt;
     }
     if (!(value >= min && value <= max)) {
-      Problem(path, "must be in [" + Number(min) + ", " + Number(max) + "] (got " + *text + ")");
+      Problem(path, "must be in [" + FormatSetting(min) + ", " + FormatSetting(max) + "] (got " + *text + ")");
       return std::nullopt;
     }
     return value;
@@ -90,7 +90,7 @@ class FieldReader {
     const auto value = Real(parent, key, path, min, max);
     if (!value) return std::nullopt;
     if (std::floor(*value) != *value) {
-      Problem(path, "must be a whole number (got " + Number(*value) + ")");
+      Problem(path, "must be a whole number (got " + FormatSetting(*value) + ")");
       return std::nullopt;
     }
     return static_cast<int>(*value);
@@ -152,17 +152,17 @@ void ReadCamera(const YAML::Node& node, FieldReader& r, RigCameraConfig* c) {
     c->exposure_max_us = *v;
   }
   if (c->exposure_min_us > c->exposure_max_us) {
-    r.Problem("camera.exposure_min_us", "(" + Number(c->exposure_min_us) +
+    r.Problem("camera.exposure_min_us", "(" + FormatSetting(c->exposure_min_us) +
                                             ") must not exceed camera.exposure_max_us (" +
-                                            Number(c->exposure_max_us) + ")");
+                                            FormatSetting(c->exposure_max_us) + ")");
   }
   if (auto v = r.Real(node, "check_exposure_us", "camera.check_exposure_us", 1e-3, 1e9)) {
     c->check_exposure_us = *v;
   }
   if (c->check_exposure_us < c->exposure_min_us || c->check_exposure_us > c->exposure_max_us) {
     r.Problem("camera.check_exposure_us",
-              "(" + Number(c->check_exposure_us) + ") must lie within the exposure limits [" +
-                  Number(c->exposure_min_us) + ", " + Number(c->exposure_max_us) + "]");
+              "(" + FormatSetting(c->check_exposure_us) + ") must lie within the exposure limits [" +
+                  FormatSetting(c->exposure_min_us) + ", " + FormatSetting(c->exposure_max_us) + "]");
   }
   if (auto v = r.Integer(node, "timeout_ms", "camera.timeout_ms", 1, 600000)) c->timeout_ms = *v;
   if (auto v = r.Integer(node, "retries", "camera.retries", 0, 100)) c->retries = *v;

@@ -11,6 +11,7 @@
 #include "basis/error.h"
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
+#include "basis/stopwatch.h"
 #include "brdf/ashikhmin_shirley.h"
 #include "brdf/ggx.h"
 #include "brdf/lambertian.h"
@@ -20,8 +21,6 @@
 namespace zbrdf {
 namespace {
 
-using WallClock = std::chrono::steady_clock;
-double Since(WallClock::time_point t) { return std::chrono::duration<double>(WallClock::now() - t).count(); }
 
 // Shape parameter <-> the optimizer's variable u: alpha = exp(u); n = exp(u) - 1.
 struct ShapeRange {
@@ -99,7 +98,7 @@ double SpecularUpperBound(AnalyticModel m) {
 
 // Colours for fixed columns: per channel NNLS on [S, D] against y - O for a - a_min >= 0, with a
 // clamped to its upper bound (then b re-solved). Returns chi2.
-double SolveColours(const FitWeights& w, const Columns& c, const Eigen::VectorXd& diffuse,
+double SolveAnalyticColours(const FitWeights& w, const Columns& c, const Eigen::VectorXd& diffuse,
                     double a_min, double a_max, Rgb* a, Rgb* b) {
   double chi2 = 0;
   for (int ch = 0; ch < 3; ++ch) {
@@ -302,24 +301,24 @@ AnalyticFitResult AnalyticFitter::Fit(const ZonalTensor& data, AnalyticModel mod
     result.brdf = std::make_shared<LambertianBrdf>(Rgb(0.0));
     result.spec = result.brdf->Spec();
     result.conditions.push_back("nothing was fitted; the model is black (" + result.spec + ")");
-    result.total_seconds = Since(t_start);
+    result.total_seconds = SecondsSince(t_start);
     return result;
   }
   const auto t_pre = WallClock::now();
   const Eigen::VectorXd diffuse = DiffuseColumn(quadrature_, model);
-  result.precompute_seconds = Since(t_pre);
+  result.precompute_seconds = SecondsSince(t_pre);
   const auto t_solve = WallClock::now();
   // Variable projection scan over the shape.
   const ShapeRange range = Range(model);
   const double u0 = MinimizeScalar(
       [&](double u) {
         Rgb a, b;
-        return SolveColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u)), diffuse, a_min,
+        return SolveAnalyticColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u)), diffuse, a_min,
                             a_max, &a, &b);
       },
       range.lo, range.hi, 16, 18);
   Rgb a0, b0;
-  SolveColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u0)), diffuse, a_min, a_max, &a0,
+  SolveAnalyticColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u0)), diffuse, a_min, a_max, &a0,
                &b0);
   // Ceres refinement.
   double u = u0;
@@ -395,8 +394,8 @@ AnalyticFitResult AnalyticFitter::Fit(const ZonalTensor& data, AnalyticModel mod
                   100 * result.statistics.relative_residual);
     result.conditions.push_back(text);
   }
-  result.solve_seconds = Since(t_solve);
-  result.total_seconds = Since(t_start);
+  result.solve_seconds = SecondsSince(t_solve);
+  result.total_seconds = SecondsSince(t_start);
   return result;
 }
 

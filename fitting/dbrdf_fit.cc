@@ -13,14 +13,13 @@
 #include "basis/error.h"
 #include "basis/option_checker.h"
 #include "basis/spherical_harmonics.h"
+#include "basis/stopwatch.h"
 #include "basis/zonal_basis.h"
 #include "fitting/covariance.h"
 
 namespace zbrdf {
 namespace {
 
-using WallClock = std::chrono::steady_clock;
-double Since(WallClock::time_point t) { return std::chrono::duration<double>(WallClock::now() - t).count(); }
 
 std::mutex& ProjectionMutex() {
   static std::mutex m;
@@ -388,7 +387,7 @@ double NonNegative2(double uu, double ud, double dd, double uy, double dy, doubl
 // The best F0 in [f0_lo, f0_hi] and c, kd >= 0 for a fixed table (parameters q): per channel the
 // two-column problem [F0 N q + R q, D] in closed form, F0 by a scan and golden-section search.
 // Returns the data chi2.
-double SolveColours(const Grams& g, const Eigen::VectorXd& q, double f0_lo, double f0_hi,
+double SolveDBrdfColours(const Grams& g, const Eigen::VectorXd& q, double f0_lo, double f0_hi,
                     Solution* s) {
   std::array<std::array<double, 10>, 3> m;  // aa ab bb ad bd ay by dd dy yy
   for (int ch = 0; ch < 3; ++ch) {
@@ -521,7 +520,7 @@ double Refine(const Problem& p, const Grams& grams, double f0_lo, double f0_hi, 
   for (report->sweeps = 0; report->sweeps < max_sweeps;) {
     ++report->sweeps;
     SolveShape(grams, penalty_gram, s);
-    SolveColours(grams, s->q, f0_lo, f0_hi, s);
+    SolveDBrdfColours(grams, s->q, f0_lo, f0_hi, s);
     const double scale = p.norm.dot(s->q);
     if (scale > 0) {
       s->q /= scale;
@@ -627,7 +626,7 @@ DBrdfFitter::DBrdfFitter(const Zone& zone, int order, const DBrdfFitOptions& opt
   if (options.table != DBrdfFitOptions::Table::kAnisotropic) {
     isotropic_ = std::make_unique<DBrdfProjection>(ProjectDBrdfTable(*quadrature_, options.theta_samples, 1));
   }
-  precompute_seconds_ = Since(t0);
+  precompute_seconds_ = SecondsSince(t0);
 }
 
 DBrdfFitter::~DBrdfFitter() = default;
@@ -641,7 +640,7 @@ const DBrdfProjection& DBrdfFitter::Projection(bool isotropic) const {
         isotropic ? ProjectDBrdfTable(*quadrature_, options_.theta_samples, 1)
                   : ProjectDBrdfTable(*quadrature_, options_.anisotropic_theta_samples,
                                       options_.anisotropic_phi_samples));
-    precompute_seconds_ += Since(t0);
+    precompute_seconds_ += SecondsSince(t0);
   }
   return *slot;
 }
@@ -711,7 +710,7 @@ DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
   if (!problem.w.any_signal) {
     result.params = black(0.3);
     result.tail_alpha = 0.3;
-    result.total_seconds = Since(t_start);
+    result.total_seconds = SecondsSince(t_start);
     return result;
   }
   const DBrdfProjection& projection = Projection(isotropic);
@@ -935,9 +934,9 @@ DBrdfFitResult DBrdfFitter::Fit(const ZonalTensor& data) const {
                   result.statistics.chi2_per_dof, 100 * result.statistics.relative_residual);
     result.conditions.push_back(text);
   }
-  result.solve_seconds = Since(t_solve);
+  result.solve_seconds = SecondsSince(t_solve);
   result.precompute_seconds = precompute_seconds_;
-  result.total_seconds = Since(t_start);
+  result.total_seconds = SecondsSince(t_start);
   return result;
 }
 
@@ -949,7 +948,7 @@ DBrdfFitResult FitDBrdf(const ZonalTensor& data, const DBrdfFitOptions& options)
   const auto t0 = WallClock::now();
   DBrdfFitter fitter(data.zone(), data.order, options);
   DBrdfFitResult result = fitter.Fit(data);
-  result.total_seconds = Since(t0);
+  result.total_seconds = SecondsSince(t0);
   return result;
 }
 

@@ -175,14 +175,6 @@ Eigen::VectorXd ContractIsotropic(const PairQuadrature& q, const std::vector<Eig
   return out;
 }
 
-// cos(m delta) for m = 0..order by the Chebyshev recurrence.
-inline void CosMultiples(int order, double delta, double* out) {
-  const double c = std::cos(delta);
-  out[0] = 1.0;
-  if (order >= 1) out[1] = c;
-  for (int m = 2; m <= order; ++m) out[m] = 2.0 * c * out[m - 1] - out[m - 2];
-}
-
 }  // namespace
 
 Eigen::VectorXd PairQuadrature::ProjectIsotropic(std::span<const double> g) const {

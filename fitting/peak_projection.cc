@@ -17,13 +17,6 @@ namespace {
 // so that results do not depend on the machine.
 constexpr int kSlices = 4;
 
-inline void CosMultiples(int order, double delta, double* out) {
-  const double c = std::cos(delta);
-  out[0] = 1.0;
-  if (order >= 1) out[1] = c;
-  for (int m = 2; m <= order; ++m) out[m] = 2.0 * c * out[m - 1] - out[m - 2];
-}
-
 // Per-column accumulator of the azimuthal (or inner) sums, reset through a list of the columns
 // touched.
 class ColumnAccumulator {

@@ -12,16 +12,9 @@
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
+#include "pictures/image.h"
 
 namespace zbrdf {
-namespace {
-
-double SrgbEncode(double linear) {
-  const double v = std::clamp(linear, 0.0, 1.0);
-  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-}
-
-}  // namespace
 
 cv::Mat DrawSphereFigure(const std::vector<FigurePanel>& panels, int size, FigureStats* stats_out) {
   if (panels.empty() || size < 16) throw InputError("figure: no panels or a size below 16 pixels");

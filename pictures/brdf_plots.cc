@@ -23,7 +23,7 @@ std::string Format(const char* format, double value) {
   return text;
 }
 
-void Text(cv::Mat& image, const std::string& text, cv::Point at, double scale = 0.45,
+void PutLabel(cv::Mat& image, const std::string& text, cv::Point at, double scale = 0.45,
           cv::Scalar color = kText) {
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, color, 1, cv::LINE_AA);
 }
@@ -66,14 +66,14 @@ cv::Mat PolarPanel(const IncidenceSlice& slice, bool log_scale) {
       cv::polylines(panel, points, false, kChannelColor[c], 2, cv::LINE_AA);
     }
   }
-  Text(panel, Format("theta_i = %.0f deg", slice.theta_i_deg), cv::Point(8, 18), 0.5);
-  Text(panel,
+  PutLabel(panel, Format("theta_i = %.0f deg", slice.theta_i_deg), cv::Point(8, 18), 0.5);
+  PutLabel(panel,
        log_scale ? Format("log10, 4 decades below %.3g /sr", f_max)
                  : Format("max f_r = %.4g /sr", f_max),
        cv::Point(8, 38), 0.42);
-  Text(panel, "-90", cv::Point(6, kHeight - 10), 0.4);
-  Text(panel, "+90 deg", cv::Point(kWidth - 62, kHeight - 10), 0.4);
-  Text(panel, "light", at(theta_i, 1.1) + cv::Point(-10, -4), 0.4, cv::Scalar(0, 110, 220));
+  PutLabel(panel, "-90", cv::Point(6, kHeight - 10), 0.4);
+  PutLabel(panel, "+90 deg", cv::Point(kWidth - 62, kHeight - 10), 0.4);
+  PutLabel(panel, "light", at(theta_i, 1.1) + cv::Point(-10, -4), 0.4, cv::Scalar(0, 110, 220));
   return panel;
 }
 
@@ -118,9 +118,9 @@ cv::Mat EnergyChart(const std::vector<std::array<double, 3>>& values, const std:
       }
     }
   }
-  Text(chart, caption, cv::Point(8, 20), 0.5);
+  PutLabel(chart, caption, cv::Point(8, 20), 0.5);
   if (!(hi > 0)) {
-    Text(chart, "no energy (all coefficients are 0)", cv::Point(left, height / 2));
+    PutLabel(chart, "no energy (all coefficients are 0)", cv::Point(left, height / 2));
     return chart;
   }
   const double decade_lo = std::floor(std::log10(lo)), decade_hi = std::ceil(std::log10(hi));
@@ -133,7 +133,7 @@ cv::Mat EnergyChart(const std::vector<std::array<double, 3>>& values, const std:
   for (double d = decade_lo; d <= decade_hi; d += 1) {
     const int y = y_of(std::pow(10.0, d));
     cv::line(chart, cv::Point(left, y), cv::Point(width - 10, y), kGrid, 1);
-    Text(chart, Format("1e%.0f", d), cv::Point(6, y + 4), 0.4);
+    PutLabel(chart, Format("1e%.0f", d), cv::Point(6, y + 4), 0.4);
   }
   for (int l = 0; l < groups; ++l) {
     const int x0 = left + l * group + 7;
@@ -142,9 +142,9 @@ cv::Mat EnergyChart(const std::vector<std::array<double, 3>>& values, const std:
       cv::rectangle(chart, cv::Point(x0 + c * bar, y_of(values[l][c])),
                     cv::Point(x0 + (c + 1) * bar - 2, top + plot_h), kChannelColor[c], cv::FILLED);
     }
-    Text(chart, std::to_string(l), cv::Point(x0 + bar, height - bottom + 16), 0.45);
+    PutLabel(chart, std::to_string(l), cv::Point(x0 + bar, height - bottom + 16), 0.45);
   }
-  Text(chart, "band l", cv::Point(width / 2 - 20, height - 6), 0.45);
+  PutLabel(chart, "band l", cv::Point(width / 2 - 20, height - 6), 0.45);
   return chart;
 }
 
@@ -200,12 +200,12 @@ cv::Mat DrawIncidenceSlices(const std::vector<IncidenceSlice>& slices, const std
   cv::Mat row;
   cv::hconcat(panels, row);
   cv::Mat header(34, row.cols, CV_8UC3, kWhite);
-  Text(header, title, cv::Point(8, 22), 0.55);
+  PutLabel(header, title, cv::Point(8, 22), 0.55);
   const int legend_x = std::max(8, row.cols - 250);
   for (int c = 0; c < 3; ++c) {
     cv::line(header, cv::Point(legend_x + 70 * c, 17), cv::Point(legend_x + 70 * c + 22, 17),
              kChannelColor[c], 2, cv::LINE_AA);
-    Text(header, c == 0 ? "R" : c == 1 ? "G" : "B", cv::Point(legend_x + 70 * c + 27, 22));
+    PutLabel(header, c == 0 ? "R" : c == 1 ? "G" : "B", cv::Point(legend_x + 70 * c + 27, 22));
   }
   return StackVertically({header, row});
 }
@@ -239,7 +239,7 @@ cv::Mat DrawBandEnergy(const std::vector<BandEnergy>& energies, const std::strin
   cv::Mat header(30,
                  cv::getTextSize(title, cv::FONT_HERSHEY_SIMPLEX, 0.55, 1, &baseline).width + 16,
                  CV_8UC3, kWhite);
-  Text(header, title, cv::Point(8, 21), 0.55);
+  PutLabel(header, title, cv::Point(8, 21), 0.55);
   parts.push_back(header);
   for (const BandEnergy& e : energies) {
     // The two groupings side by side.

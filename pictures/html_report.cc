@@ -104,12 +104,12 @@ double Number(const nlohmann::json& j, const std::string& key) {
   return j[key].get<double>();
 }
 
-std::string Text(const nlohmann::json& j, const std::string& key) {
+std::string StringField(const nlohmann::json& j, const std::string& key) {
   if (!j.is_object() || !j.contains(key) || !j[key].is_string()) return "";
   return j[key].get<std::string>();
 }
 
-std::string Format(const char* format, double value) {
+std::string Printf(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
   return text;
@@ -117,7 +117,7 @@ std::string Format(const char* format, double value) {
 
 std::string FormatSeconds(double s) {
   if (!std::isfinite(s) || s < 0) return "n/a";
-  if (s < 120) return Format("%.1f s", s);
+  if (s < 120) return Printf("%.1f s", s);
   const long total = std::lround(s);
   return std::to_string(total / 60) + " min " + std::to_string(total % 60) + " s";
 }
@@ -149,7 +149,7 @@ std::string Scalar(const nlohmann::json& v) {
   if (v.is_string()) return v.get<std::string>();
   if (v.is_number_float()) {
     const double x = v.get<double>();
-    return std::isfinite(x) ? Format("%.5g", x) : "n/a (not finite)";
+    return std::isfinite(x) ? Printf("%.5g", x) : "n/a (not finite)";
   }
   if (v.is_null()) return "n/a (null)";
   return v.dump();
@@ -379,9 +379,9 @@ SessionInputs ReadInputs(const std::string& dir) {
     in.fit_file = fs::path(file.path).filename().string();
     std::tie(in.fit_report_path, in.fit_model) = FitReportOf(file.path);
     if (!in.fit_report_path.empty()) in.fit_report = ReadJson(in.fit_report_path);
-    const std::string model = Text(in.fit_report, "model");
+    const std::string model = StringField(in.fit_report, "model");
     if (!model.empty()) in.fit_model = model;
-    const std::string recommended = Text(in.autofit, "recommended");
+    const std::string recommended = StringField(in.autofit, "recommended");
     in.recommended = !recommended.empty() && recommended == in.fit_model;
   } catch (const InputError& e) {
     in.notes.push_back(e.what());
@@ -408,7 +408,7 @@ std::string ZoneText(const nlohmann::json& report, const nlohmann::json& session
       !(*zone)[1].is_number()) {
     return "";
   }
-  return Format("%.1f", (*zone)[0].get<double>()) + "-" + Format("%.1f", (*zone)[1].get<double>()) +
+  return Printf("%.1f", (*zone)[0].get<double>()) + "-" + Printf("%.1f", (*zone)[1].get<double>()) +
          " deg";
 }
 
@@ -440,14 +440,14 @@ std::vector<std::string> Warnings(const SessionInputs& in) {
     }
     const double saturated = Number(in.report, "saturated_pixel_lobes");
     if (saturated > 0) {
-      out.push_back(Format("%.0f", saturated) +
+      out.push_back(Printf("%.0f", saturated) +
                     " pixel-lobes were saturated at every exposure and left out (a shorter "
                     "--shortest-exposure-us keeps them)");
     }
     const double rejected = Number(in.report, "journal_lines_rejected");
     if (rejected > 0) {
-      out.push_back(Format("%.0f", rejected) + " journal lines were rejected on resume: " +
-                    Text(in.report, "first_rejection"));
+      out.push_back(Printf("%.0f", rejected) + " journal lines were rejected on resume: " +
+                    StringField(in.report, "first_rejection"));
     }
     CollectProblems(in.report, "report.json", &out);
   }
@@ -513,7 +513,7 @@ std::vector<SummaryError> Errors(const SessionInputs& in, const std::string& zon
     if (in.recommended && in.autofit.contains("candidates") &&
         in.autofit["candidates"].is_array()) {
       for (const auto& c : in.autofit["candidates"]) {
-        if (Text(c, "model") == in.fit_model) cv = Number(c, "cv_error");
+        if (StringField(c, "model") == in.fit_model) cv = Number(c, "cv_error");
       }
     }
     if (simulated && std::isfinite(truth_zone)) {
@@ -592,7 +592,7 @@ std::string SummaryHtml(const SessionInputs& in, const SessionSummary& s, const 
           "</h1>\n";
   std::string sub = "session " + HtmlEscape(s.name);
   if (!s.kind.empty()) sub += " &middot; " + HtmlEscape(s.kind);
-  const std::string rig = Text(in.session, "rig_name");
+  const std::string rig = StringField(in.session, "rig_name");
   if (!rig.empty()) sub += " on " + HtmlEscape(rig);
   if (!zone.empty()) sub += " &middot; zone " + HtmlEscape(zone);
   if (s.order >= 0) sub += ", order " + std::to_string(s.order);
@@ -629,7 +629,7 @@ std::string SummaryHtml(const SessionInputs& in, const SessionSummary& s, const 
   html += "<p id=\"rig-time\">Rig time: <b>" + FormatSeconds(s.rig_time_s) + "</b>";
   if (std::isfinite(s.rig_time_s) && s.kind == "simulated") html += " (the virtual rig's clock)";
   const double frames = Number(in.report, "frames");
-  if (std::isfinite(frames)) html += " &middot; " + Format("%.0f", frames) + " frames";
+  if (std::isfinite(frames)) html += " &middot; " + Printf("%.0f", frames) + " frames";
   html += "</p>\n<div id=\"warnings\">";
   if (s.warnings.empty()) {
     html += "<p class=\"ok\">No warnings.</p>";
@@ -657,7 +657,7 @@ std::string CandidatesHtml(const nlohmann::json& autofit) {
       !autofit["candidates"].is_array()) {
     return "";
   }
-  const std::string recommended = Text(autofit, "recommended");
+  const std::string recommended = StringField(autofit, "recommended");
   const nlohmann::json truth =
       autofit.contains("errors_against_truth") ? autofit["errors_against_truth"] : nlohmann::json();
   std::string html =
@@ -670,7 +670,7 @@ std::string CandidatesHtml(const nlohmann::json& autofit) {
            "</td>";
   };
   for (const auto& c : autofit["candidates"]) {
-    const std::string model = Text(c, "model");
+    const std::string model = StringField(c, "model");
     const nlohmann::json t = truth.is_object() && truth.contains(model) ? truth[model] : nullptr;
     html += "<tr><th>" + HtmlEscape(ModelName(model)) +
             (model == recommended ? " (recommended)" : "") + "</th>" +
@@ -684,7 +684,7 @@ std::string CandidatesHtml(const nlohmann::json& autofit) {
 // The figure `zbrdf fit --figure` wrote with this fit (its report names it), if it is still there.
 std::string ExistingFigure(const SessionInputs& in) {
   if (!in.fit_report.is_object() || !in.fit_report.contains("figure")) return "";
-  const std::string named = Text(in.fit_report["figure"], "path");
+  const std::string named = StringField(in.fit_report["figure"], "path");
   if (named.empty()) return "";
   for (const fs::path& c :
        {fs::path(named), fs::path(in.dir) / named, fs::path(in.dir) / fs::path(named).filename()}) {
@@ -721,10 +721,10 @@ std::string AccuracyWord(ErrorMeasure measure, double e) {
 std::string FormatPercent(double fraction) {
   if (!std::isfinite(fraction)) return "n/a";
   const double percent = 100 * fraction;
-  if (std::abs(percent) >= 100) return Format("%.0f%%", percent);
-  if (std::abs(percent) >= 10) return Format("%.1f%%", percent);
+  if (std::abs(percent) >= 100) return Printf("%.0f%%", percent);
+  if (std::abs(percent) >= 10) return Printf("%.1f%%", percent);
   if (percent != 0 && std::abs(percent) < 0.01) return percent > 0 ? "<0.01%" : ">-0.01%";
-  return Format("%.2f%%", percent);
+  return Printf("%.2f%%", percent);
 }
 
 std::string SessionSummary::Verdict() const {
@@ -933,12 +933,12 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
 
   SessionSummary& s = page.summary;
   s.name = in.name;
-  s.kind = Text(in.session, "kind");
+  s.kind = StringField(in.session, "kind");
   s.material = in.truth_spec;
   s.fit = in.fitted ? in.fit_model : "";
   s.recommended = in.recommended;
   s.fit_file = in.fitted ? in.fit_file : "";
-  s.fit_why = in.recommended ? Text(in.autofit, "why") : "";
+  s.fit_why = in.recommended ? StringField(in.autofit, "why") : "";
   s.order = OrderOf(in);
   s.rig_time_s = Number(in.report, "capture_time_model_s");
   s.errors =
@@ -1006,7 +1006,7 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
                   record.value("sampler", std::string("?")) + " sampling, " +
                   std::to_string(record.value("spp", 0)) + " samples per pixel, " +
                   record.value("lighting", std::string("?")) + ", rendered in " +
-                  Format("%.1f s", record.value("seconds", 0.0));
+                  Printf("%.1f s", record.value("seconds", 0.0));
       }
       page.sections.push_back("Turntable");
       body += "<h2 id=\"turntable\">Turntable</h2>\n<figure id=\"turntable-animation\">" +
@@ -1079,7 +1079,7 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
   if (!candidates.empty()) {
     page.sections.push_back("Fit candidates");
     body += "<h2 id=\"candidates\">Fit candidates (zbrdf fit --model auto)</h2>\n" + candidates +
-            "<p class=\"why\">" + HtmlEscape(Text(in.autofit, "why")) + "</p>\n";
+            "<p class=\"why\">" + HtmlEscape(StringField(in.autofit, "why")) + "</p>\n";
   }
 
   // Coefficient energy per band.
@@ -1106,7 +1106,7 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
   const std::string graycard = FindCalibrationFigure(dir, in.session);
   page.sections.push_back("Calibration");
   body += "<h2 id=\"calibration\">Calibration</h2>\n<p>" +
-          HtmlEscape(Text(in.session, "calibration")) + "</p>\n";
+          HtmlEscape(StringField(in.session, "calibration")) + "</p>\n";
   if (!graycard.empty()) {
     body += "<figure>" + ImageTag(ReadBytes(graycard), "gray card") + "<figcaption>" +
             HtmlEscape(graycard) + "</figcaption></figure>\n";
@@ -1246,7 +1246,7 @@ std::string BuildIndexPage(const std::string& index_path, const std::vector<Inde
           std::string("/-_.~+,=@").find(static_cast<char>(c)) != std::string::npos) {
         url += static_cast<char>(c);
       } else {
-        url += Format("%%%02X", c);
+        url += Printf("%%%02X", c);
       }
     }
     return url;

@@ -21,7 +21,7 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint32_t kCacheVersion = 8;
+constexpr uint32_t kMapsCacheVersion = 8;
 
 // chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
 // the direction it lights the sample center from), else the mean of its landed rays (the
@@ -293,7 +293,7 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
   const uint64_t hash = RigHash(optics.rig());
   char name[64];
   std::snprintf(name, sizeof(name), "maps-%016llx-v%u.bin", static_cast<unsigned long long>(hash),
-                kCacheVersion);
+                kMapsCacheVersion);
   const std::filesystem::path path = std::filesystem::path(cache_dir) / name;
   {
     std::ifstream in(path, std::ios::binary);

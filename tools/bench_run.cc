@@ -20,6 +20,7 @@
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/spherical_harmonics.h"
+#include "basis/stopwatch.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
 #include "calibration/calibration_data.h"
@@ -36,11 +37,7 @@ namespace zbrdf {
 namespace {
 
 namespace fs = std::filesystem;
-using WallClock = std::chrono::steady_clock;
-double Since(WallClock::time_point t) {
-  return std::chrono::duration<double>(WallClock::now() - t).count();
-}
-nlohmann::json Num(double v) {
+nlohmann::json JsonOrNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
@@ -162,15 +159,15 @@ class MaterialBench {
                                              DefaultCacheDir() + "/truth");
       }
     }
-    row["coefficient_error"] = Num(PaddedCoefficientError(zonal, truth_, s.order));
+    row["coefficient_error"] = JsonOrNull(PaddedCoefficientError(zonal, truth_, s.order));
     // Against the truth up to the bench's largest order: comparable across strategies (a low
     // order is charged for the bands it leaves out).
-    row["coefficient_error_common"] = Num(PaddedCoefficientError(zonal, truth_, truth_order));
+    row["coefficient_error_common"] = JsonOrNull(PaddedCoefficientError(zonal, truth_, truth_order));
     // SH conversion and its errors.
     const ZonalTensor tensor = ToZonalTensor(zonal);
     auto t = WallClock::now();
     const ShConversionResult sh = ConvertToSh(tensor, ShConversionOptions());
-    row["sh_s"] = Since(t);
+    row["sh_s"] = SecondsSince(t);
     if (!material_->IsDelta()) {
       const ShBrdf sh_brdf(sh.data);
       const CosineWeightedFn sh_fn = [&sh_brdf](const Vec3& w_o, std::span<const Vec3> w_i,
@@ -178,8 +175,8 @@ class MaterialBench {
         sh_brdf.CosineWeightedBatch(w_o, w_i, out);
       };
       const BrdfComparison c = CompareBrdfs(sh_fn, CosineWeightedOf(*material_), zonal.zone());
-      row["sh_error_cosine_l2"] = Num(c.cosine_l2);
-      row["sh_error_in_zone"] = Num(c.in_zone);
+      row["sh_error_cosine_l2"] = JsonOrNull(c.cosine_l2);
+      row["sh_error_in_zone"] = JsonOrNull(c.in_zone);
     }
     // The D-BRDF fit, unless an adaptive capture found nothing above band 1.
     const bool skip_fit = s.adaptive && zonal.order <= 1;
@@ -190,12 +187,12 @@ class MaterialBench {
       fit.write_outputs = false;
       t = WallClock::now();
       const FitSessionOutcome outcome = FitSession(dir, fit, fits_);
-      row["fit_s"] = Since(t);
+      row["fit_s"] = SecondsSince(t);
       row["dbrdf_error_cosine_l2"] =
           outcome.report.value("error_cosine_l2", nlohmann::json(nullptr));
       row["dbrdf_fitted"] = outcome.report.value("fitted", false);
       const BallImage ball = RenderBall(*outcome.model, nullptr, BenchBall(options_.ball_size));
-      row["ball_rmse"] = Num(BallRmse(TruthBall(), ball) / TruthBallRms());
+      row["ball_rmse"] = JsonOrNull(BallRmse(TruthBall(), ball) / TruthBallRms());
     }
     // What a renderer gets: the whole-hemisphere reconstruction `zbrdf fit` recommends by
     // default (the prior fit: --model auto keeps it unless another model is clearly better,
@@ -210,15 +207,15 @@ class MaterialBench {
       }
       t = WallClock::now();
       const FitSessionOutcome outcome = FitSession(dir, fit, fits_);
-      row["renderable_fit_s"] = Since(t);
+      row["renderable_fit_s"] = SecondsSince(t);
       row["renderable_error_cosine_l2"] =
           outcome.report.value("error_cosine_l2", nlohmann::json(nullptr));
       const nlohmann::json ngan = outcome.report.value("error_ngan", nlohmann::json::object());
       row["renderable_error_ngan"] = ngan.value("hemisphere", nlohmann::json(nullptr));
       const BallImage ball = RenderBall(*outcome.model, nullptr, BenchBall(options_.ball_size));
-      row["renderable_ball_rmse"] = Num(BallRmse(TruthBall(), ball) / TruthBallRms());
+      row["renderable_ball_rmse"] = JsonOrNull(BallRmse(TruthBall(), ball) / TruthBallRms());
     }
-    row["wall_s"] = Since(wall_start);
+    row["wall_s"] = SecondsSince(wall_start);
     return row;
   }
 
@@ -623,7 +620,7 @@ nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted)
       {"material", "target:white"},       {"order", max_order},
       {"band_energy", energies},          {"floor_profile", adaptive.floor_profile},
       {"adaptive_options", adaptive.ToJson()},
-      {"capture_time_s", capture_time_s}, {"wall_s", Since(t)},
+      {"capture_time_s", capture_time_s}, {"wall_s", SecondsSince(t)},
       {"batch_options", manifest.options}};
   WriteFileAtomically(floor_path, floor.dump(2) + "\n");
   return floor;
@@ -691,7 +688,7 @@ BenchSummary RunBench(const BenchOptions& options) {
   auto write_outputs = [&]() {  // under mutex
     if (!options.shard.IsWhole()) return;
     summary.table = ReduceBench(options.out_dir).table;
-    summary.table["wall_s"] = Since(bench_start);
+    summary.table["wall_s"] = SecondsSince(bench_start);
     WriteFileAtomically(options.out_dir + "/bench.json", summary.table.dump(2) + "\n");
   };
   std::exception_ptr output_error;
@@ -739,7 +736,7 @@ BenchSummary RunBench(const BenchOptions& options) {
     summary.failed += failed;
     try {
       WriteItemResult(options.out_dir, manifest, item,
-                      {{"material", materials[mi]}, {"rows", rows}, {"wall_s", Since(material_start)}});
+                      {{"material", materials[mi]}, {"rows", rows}, {"wall_s", SecondsSince(material_start)}});
       write_outputs();
     } catch (...) {
       if (!output_error) output_error = std::current_exception();

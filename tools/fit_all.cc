@@ -30,7 +30,7 @@ bool StartsSpec(const std::string& token) {
   return colon != std::string::npos && (equals == std::string::npos || colon < equals);
 }
 
-double Median(std::vector<double> v) {
+double MedianOf(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
@@ -144,7 +144,7 @@ nlohmann::json FitAllTable(const nlohmann::json& batch_options, const std::vecto
     all_rows.push_back(std::move(row));
   }
   auto median_or_null = [](const std::vector<double>& v) {
-    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(Median(v));
+    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(MedianOf(v));
   };
   nlohmann::json stats = nlohmann::json::object();
   for (const std::string& m : models) {

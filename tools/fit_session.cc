@@ -19,6 +19,7 @@
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
 #include "basis/hash.h"
+#include "basis/stopwatch.h"
 #include "fitting/model_selection.h"
 #include "pictures/brdf_figure.h"
 #include "rig/direction_maps.h"
@@ -27,8 +28,6 @@
 namespace zbrdf {
 namespace {
 
-using WallClock = std::chrono::steady_clock;
-double Since(WallClock::time_point t) { return std::chrono::duration<double>(WallClock::now() - t).count(); }
 
 nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -175,9 +174,9 @@ SingleFit FitModel(const std::string& model_name, const ZonalTensor& data,
   const auto t0 = WallClock::now();
   if (model_name == "prior") {
     const PriorFitter& fitter = PriorFitterFor(data, options, fits);
-    const double precompute = Since(t0);
+    const double precompute = SecondsSince(t0);
     const PriorFitResult fit = fitter.Fit(data, options.prior);
-    report["fit_time_s"] = Since(t0);
+    report["fit_time_s"] = SecondsSince(t0);
     report["fit_time_breakdown"] = {{"precompute_s", precompute}, {"solve_s", fit.solve_seconds}};
     report["params"] = fit.ToJson();
     report["params"]["prior"] = options.prior_path.empty() ? DefaultPriorPath() : options.prior_path;
@@ -193,9 +192,9 @@ SingleFit FitModel(const std::string& model_name, const ZonalTensor& data,
     out.model = fit.brdf;
   } else if (model_name == "dbrdf") {
     const DBrdfFitter& fitter = fits.DBrdf(data.zone(), data.order, options.dbrdf);
-    const double precompute = Since(t0);
+    const double precompute = SecondsSince(t0);
     const DBrdfFitResult fit = fitter.Fit(data);
-    report["fit_time_s"] = Since(t0);
+    report["fit_time_s"] = SecondsSince(t0);
     report["fit_time_breakdown"] = {{"precompute_s", precompute}, {"solve_s", fit.solve_seconds}};
     report["params"] = fit.ToJson();
     report["uncertainty"] = report["params"]["uncertainty"];
@@ -206,9 +205,9 @@ SingleFit FitModel(const std::string& model_name, const ZonalTensor& data,
     out.model = std::make_shared<DBrdf>(fit.params);
   } else {
     const AnalyticFitter& fitter = fits.Analytic(data.zone(), data.order, options.analytic);
-    const double precompute = Since(t0);
+    const double precompute = SecondsSince(t0);
     const AnalyticFitResult fit = fitter.Fit(data, ParseAnalyticModel(model_name));
-    report["fit_time_s"] = Since(t0);
+    report["fit_time_s"] = SecondsSince(t0);
     report["fit_time_breakdown"] = {{"precompute_s", precompute + fit.precompute_seconds},
                                     {"solve_s", fit.solve_seconds}};
     report["params"] = fit.ToJson();
@@ -255,7 +254,7 @@ void CompareWithTruth(const Brdf& model, const Brdf& truth, const Zone& zone,
   (*report)["error_ngan"] = {{"hemisphere", Finite(c.cosine_l2_channel_mean)},
                              {"theta_80", Finite(c.cosine_l2_80_channel_mean)},
                              {"zone", Finite(c.in_zone_channel_mean)}};
-  (*report)["error_time_s"] = Since(t_err);
+  (*report)["error_time_s"] = SecondsSince(t_err);
 }
 
 // Writes fit-<model>.json and the model's file (fit-dbrdf.exr, fit-prior.exr) into the session.
@@ -324,7 +323,7 @@ FitSessionOutcome FitSession(const std::string& session_dir, const FitSessionOpt
                        " (" + selection.ToJson().dump() + ")");
     }
     auto_report = selection.ToJson();
-    auto_report["selection_time_s"] = Since(t_select);
+    auto_report["selection_time_s"] = SecondsSince(t_select);
     model_name = selection.recommended;
     nlohmann::json errors = nlohmann::json::object();
     for (const std::string& name : options.auto_candidates) {

@@ -26,14 +26,14 @@ namespace zbrdf {
 namespace fs = std::filesystem;
 namespace {
 
-struct ProcessResult {
+struct SlurmCommandResult {
   int status = -1;  // exit status, or -1 when it could not start or was killed
   std::string output;  // stdout and stderr together
 };
 
 // Runs argv[0] (found on PATH) with the environment of this process; waits for it.
-ProcessResult RunProcess(const std::vector<std::string>& argv) {
-  ProcessResult result;
+SlurmCommandResult RunProcess(const std::vector<std::string>& argv) {
+  SlurmCommandResult result;
   int pipe_fds[2];
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) return result;
   posix_spawn_file_actions_t actions;
@@ -81,7 +81,7 @@ std::string Trim(std::string s) {
 std::string SubmitScript(const std::vector<std::string>& sbatch_args) {
   std::vector<std::string> argv = {"sbatch", "--parsable"};
   argv.insert(argv.end(), sbatch_args.begin(), sbatch_args.end());
-  const ProcessResult r = RunProcess(argv);
+  const SlurmCommandResult r = RunProcess(argv);
   std::string out = Trim(r.output);
   if (r.status != 0) {
     std::string command;
@@ -290,7 +290,7 @@ std::vector<std::string> LiveSlurmJobs(const std::string& dir) {
     list += j;
   }
   // %i: "123_4" for an array task ("123_[5-7]" for pending ones), %A the array's job id.
-  const ProcessResult r = RunProcess({"squeue", "-h", "-r", "-j", list, "-o", "%i %A"});
+  const SlurmCommandResult r = RunProcess({"squeue", "-h", "-r", "-j", list, "-o", "%i %A"});
   std::vector<std::string> live;
   if (r.status != 0) return live;
   std::istringstream lines(r.output);

@@ -128,7 +128,7 @@ int RunAccuracyCommand(const std::vector<std::string>& args) {
   return summary.interrupted ? 130 : 0;
 }
 
-const CommandRegistration kReg({"accuracy", "whole-hemisphere accuracy benchmark (leave-one-out, MERL and RGL)",
+const CommandRegistration kAccuracyCommand({"accuracy", "whole-hemisphere accuracy benchmark (leave-one-out, MERL and RGL)",
                                 RunAccuracyCommand});
 
 }  // namespace

@@ -112,7 +112,7 @@ int RunBasis(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"basis", "conditioning report of the zonal basis and its SH conversion",
+const CommandRegistration kBasisCommand({"basis", "conditioning report of the zonal basis and its SH conversion",
                                 RunBasis});
 
 }  // namespace

@@ -203,7 +203,7 @@ int RunBatch(const std::vector<std::string>& args) {
   throw InputError("unknown batch action '" + action + "'; use merge, status or resubmit (zbrdf batch --help)");
 }
 
-const CommandRegistration kReg({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench, prior build)",
+const CommandRegistration kBatchCommand({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench, prior build)",
                                 RunBatch});
 
 }  // namespace

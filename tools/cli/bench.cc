@@ -171,7 +171,7 @@ int RunBenchCommand(const std::vector<std::string>& args) {
   return summary.failed > 0 ? 1 : 0;
 }
 
-const CommandRegistration kReg({"bench",
+const CommandRegistration kBenchCommand({"bench",
                                 "benchmark capture strategies (fixed, adaptive) against "
                                 "ground truth: time vs error",
                                 RunBenchCommand});

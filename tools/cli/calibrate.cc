@@ -148,7 +148,7 @@ int RunCalibrate(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kReg({"calibrate", "calibrate a rig: geometry, projector, noise, gray card",
+const CommandRegistration kCalibrateCommand({"calibrate", "calibrate a rig: geometry, projector, noise, gray card",
                                 RunCalibrate});
 
 }  // namespace

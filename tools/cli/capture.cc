@@ -23,7 +23,7 @@
 namespace zbrdf::cli {
 namespace {
 
-int RunCapture(const std::vector<std::string>& argv) {
+int RunCaptureCommand(const std::vector<std::string>& argv) {
   CommandLine cl("capture",
                  "Captures a session on a rig and processes it into zonal coefficients:\n"
                  "meters the exposure, shows every basis pattern, takes its exposure bracket,\n"
@@ -165,8 +165,8 @@ int RunCapture(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kReg({"capture", "capture a session on a rig (hardware or virtual) and process it",
-                                RunCapture});
+const CommandRegistration kCaptureCommand({"capture", "capture a session on a rig (hardware or virtual) and process it",
+                                RunCaptureCommand});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -107,7 +107,7 @@ int RunCheckRig(const std::vector<std::string>& args) {
   return report.AllPassed() ? 0 : 1;
 }
 
-const CommandRegistration kReg({"check-rig", "self-test the hardware rig of a rig file",
+const CommandRegistration kCheckRigCommand({"check-rig", "self-test the hardware rig of a rig file",
                                 RunCheckRig});
 
 }  // namespace

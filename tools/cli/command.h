@@ -1,7 +1,8 @@
 // The zbrdf CLI's subcommand table and argument parser.
 //
 // Each tools/cli/<name>.cc defines one subcommand and registers it with a file-scope
-// `const CommandRegistration kReg{...}` object, so adding a subcommand touches no shared table.
+// `const CommandRegistration k<Name>Command{...}` object (a name of its own: the
+// subcommands compile eight to a unity batch), so adding a subcommand touches no shared table.
 // A subcommand is a thin function over the libraries: it parses flags with CommandLine, calls
 // library code, and prints a human-readable summary or, with --json, one JSON object. It parses
 // before it does anything else: --help, the completion scripts (DescribeCommand) and the man

@@ -67,7 +67,7 @@ int RunCompare(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"compare", "render two BRDFs side by side with error metrics",
+const CommandRegistration kCompareCommand({"compare", "render two BRDFs side by side with error metrics",
                                 RunCompare});
 
 }  // namespace

@@ -189,7 +189,7 @@ int RunCompletion(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"completion", "print a bash or zsh completion script",
+const CommandRegistration kCompletionCommand({"completion", "print a bash or zsh completion script",
                                 RunCompletion});
 
 }  // namespace

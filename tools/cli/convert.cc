@@ -105,7 +105,7 @@ int RunConvert(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"convert", "convert a session's zonal data to spherical harmonics",
+const CommandRegistration kConvertCommand({"convert", "convert a session's zonal data to spherical harmonics",
                                 RunConvert});
 
 }  // namespace

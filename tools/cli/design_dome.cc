@@ -72,7 +72,7 @@ int RunDesignDome(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"design-dome", "design the dome profile of a rig; drawing and zone report",
+const CommandRegistration kDesignDomeCommand({"design-dome", "design the dome profile of a rig; drawing and zone report",
                                 RunDesignDome});
 
 }  // namespace

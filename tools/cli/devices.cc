@@ -129,7 +129,7 @@ int RunDevices(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"devices",
+const CommandRegistration kDevicesCommand({"devices",
                                 "list cameras (broadcast discovery), DLPC350s and X11 outputs",
                                 RunDevices});
 

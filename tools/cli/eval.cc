@@ -89,7 +89,7 @@ int RunEval(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"eval",
+const CommandRegistration kEvalCommand({"eval",
                                 "evaluate f_r of a material, fit or file at given directions",
                                 RunEval});
 

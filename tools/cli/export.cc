@@ -120,7 +120,7 @@ int RunExport(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"export",
+const CommandRegistration kExportCommand({"export",
                                 "write a BRDF as MERL, RGL .bsdf, SH, D-BRDF or BRDF Explorer file",
                                 RunExport});
 

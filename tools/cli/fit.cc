@@ -80,7 +80,7 @@ int RunFit(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"fit", "fit a prior, D-BRDF or analytic model to a session (or choose: auto)",
+const CommandRegistration kFitCommand({"fit", "fit a prior, D-BRDF or analytic model to a session (or choose: auto)",
                                 RunFit});
 
 }  // namespace

@@ -28,7 +28,7 @@ std::vector<std::string> SplitModels(const std::string& list) {
   return models;
 }
 
-int RunFitAll(const std::vector<std::string>& args) {
+int RunFitAllCommand(const std::vector<std::string>& args) {
   CommandLine cl("fit-all",
                  "Simulates every material on the rig and fits each model to it, writing a table\n"
                  "of the cosine-weighted L2 error (Ngan et al. 2005, full hemisphere, relative to\n"
@@ -133,8 +133,8 @@ int RunFitAll(const std::vector<std::string>& args) {
   return summary.failed > 0 ? 1 : 0;
 }
 
-const CommandRegistration kReg({"fit-all", "simulate and fit many materials; table of model errors",
-                                RunFitAll});
+const CommandRegistration kFitAllCommand({"fit-all", "simulate and fit many materials; table of model errors",
+                                RunFitAllCommand});
 
 }  // namespace
 }  // namespace zbrdf::cli

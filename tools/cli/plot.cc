@@ -138,7 +138,7 @@ int RunPlot(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"plot",
+const CommandRegistration kPlotCommand({"plot",
                                 "polar plots of BRDF slices and per-band coefficient energy",
                                 RunPlot});
 

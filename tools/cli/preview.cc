@@ -233,7 +233,7 @@ int RunPreview(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"preview",
+const CommandRegistration kPreviewCommand({"preview",
                                 "render a material ball of a BRDF (PNG, optional EXR), or a "
                                 "turntable / environment-sequence animation",
                                 RunPreview});

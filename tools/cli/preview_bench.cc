@@ -102,7 +102,7 @@ int RunPreviewBench(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"preview-bench",
+const CommandRegistration kPreviewBenchCommand({"preview-bench",
                                 "MIS, SIR and SMC relighting on a turntable: error against time",
                                 RunPreviewBench});
 

@@ -140,7 +140,7 @@ int RunPrior(const std::vector<std::string>& args) {
   throw InputError("zbrdf prior: unknown action '" + args[0] + "'; use build or info");
 }
 
-const CommandRegistration kReg({"prior",
+const CommandRegistration kPriorCommand({"prior",
                                 "build or inspect a measured-material prior (fit --model prior)",
                                 RunPrior,
                                 {{"build", "build a prior from measured materials"},

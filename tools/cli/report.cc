@@ -98,7 +98,7 @@ int RunReport(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"report",
+const CommandRegistration kReportCommand({"report",
                                 "write a self-contained HTML report of a session, or an index of a "
                                 "folder of sessions",
                                 RunReport});

@@ -142,7 +142,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kReg({"simulate", "simulate and process a capture session of a material",
+const CommandRegistration kSimulateCommand({"simulate", "simulate and process a capture session of a material",
                                 RunSimulate});
 
 }  // namespace

@@ -125,7 +125,7 @@ int RunStress(const std::vector<std::string>& args) {
   return failed > 0 ? 1 : 0;
 }
 
-const CommandRegistration kReg({"stress", "numerical stability suite: extreme orders, zones, materials, frames",
+const CommandRegistration kStressCommand({"stress", "numerical stability suite: extreme orders, zones, materials, frames",
                                 RunStress});
 
 }  // namespace

@@ -13,7 +13,7 @@ int RunVersion(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReg({"version", "print the zbrdf version", RunVersion});
+const CommandRegistration kVersionCommand({"version", "print the zbrdf version", RunVersion});
 
 }  // namespace
 }  // namespace zbrdf::cli
