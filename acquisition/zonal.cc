@@ -328,8 +328,9 @@ std::string FirstInvalidValue(const ZonalData& data) {
       }
       for (size_t c = 0; c < variance.size(); ++c) {
         if (bad(variance[c], true)) {
-          return "grid variance " + FunctionLayer(static_cast<int>(k)) + ".var." + kZonalChannelNames[ch] +
-                 " at cell " + std::to_string(c) + " is " + text(variance[c]);
+          return "grid variance " + FunctionLayer(static_cast<int>(k)) + ".var." +
+                 kZonalChannelNames[ch] + " at cell " + std::to_string(c) + " is " +
+                 text(variance[c]);
         }
       }
     }
@@ -341,7 +342,8 @@ std::string FirstInvalidValue(const ZonalData& data) {
         for (Eigen::Index j = 0; j < m.cols(); ++j) {
           if (bad(m(k, j), variance)) {
             return std::string("tensor ") + (variance ? "variance var." : "coefficient z.") +
-                   kZonalChannelNames[ch] + "(" + std::to_string(k) + ", " + std::to_string(j) + ") is " + text(m(k, j));
+                   kZonalChannelNames[ch] + "(" + std::to_string(k) + ", " + std::to_string(j) +
+                   ") is " + text(m(k, j));
           }
         }
       }
@@ -376,12 +378,14 @@ void WriteZonalExr(const std::string& path, const ZonalData& data) {
     const std::string layer = FunctionLayer(k);
     for (int ch = 0; ch < 3; ++ch) {
       writer.AddImageChannel(layer + "." + kZonalChannelNames[ch], data.functions[k].value[ch]);
-      writer.AddImageChannel(layer + ".var." + kZonalChannelNames[ch], data.functions[k].variance[ch]);
+      writer.AddImageChannel(layer + ".var." + kZonalChannelNames[ch],
+                             data.functions[k].variance[ch]);
     }
   }
   if (n > 0) {
     for (int ch = 0; ch < 3; ++ch) {
-      writer.AddImageChannel(std::string("weight.") + kZonalChannelNames[ch], data.functions[0].weight[ch]);
+      writer.AddImageChannel(std::string("weight.") + kZonalChannelNames[ch],
+                             data.functions[0].weight[ch]);
     }
     std::vector<float> filled(cells);
     for (int c = 0; c < cells; ++c) filled[c] = data.functions[0].filled[c];
@@ -459,16 +463,16 @@ ZonalData ReadZonalExr(const std::string& path) {
     for (int k = 0; k < n; ++k) {
       const std::string layer = FunctionLayer(k);
       for (int ch = 0; ch < 3; ++ch) {
-        slice(fb, h, layer + "." + kZonalChannelNames[ch], data.functions[k].value[ch], data.grid.n_phi, cells,
-              window.min.x, window.min.y);
-        slice(fb, h, layer + ".var." + kZonalChannelNames[ch], data.functions[k].variance[ch], data.grid.n_phi,
-              cells, window.min.x, window.min.y);
+        slice(fb, h, layer + "." + kZonalChannelNames[ch], data.functions[k].value[ch],
+              data.grid.n_phi, cells, window.min.x, window.min.y);
+        slice(fb, h, layer + ".var." + kZonalChannelNames[ch], data.functions[k].variance[ch],
+              data.grid.n_phi, cells, window.min.x, window.min.y);
       }
     }
     std::array<std::vector<float>, 3> weight;
     for (int ch = 0; ch < 3; ++ch) {
-      slice(fb, h, std::string("weight.") + kZonalChannelNames[ch], weight[ch], data.grid.n_phi, cells,
-            window.min.x, window.min.y);
+      slice(fb, h, std::string("weight.") + kZonalChannelNames[ch], weight[ch], data.grid.n_phi,
+            cells, window.min.x, window.min.y);
     }
     slice(fb, h, "filled", filled, data.grid.n_phi, cells, window.min.x, window.min.y);
     Imf::InputPart grid(file, grid_part);
@@ -488,8 +492,10 @@ ZonalData ReadZonalExr(const std::string& path) {
     Imf::FrameBuffer tfb;
     std::array<std::vector<float>, 3> tv, tvar;
     for (int ch = 0; ch < 3; ++ch) {
-      slice(tfb, th, std::string("z.") + kZonalChannelNames[ch], tv[ch], n, n * n, tw.min.x, tw.min.y);
-      slice(tfb, th, std::string("var.") + kZonalChannelNames[ch], tvar[ch], n, n * n, tw.min.x, tw.min.y);
+      slice(tfb, th, std::string("z.") + kZonalChannelNames[ch], tv[ch], n, n * n, tw.min.x,
+            tw.min.y);
+      slice(tfb, th, std::string("var.") + kZonalChannelNames[ch], tvar[ch], n, n * n, tw.min.x,
+            tw.min.y);
     }
     Imf::InputPart tensor(file, tensor_part);
     tensor.setFrameBuffer(tfb);

@@ -37,12 +37,13 @@ std::string ExplorerNumber(double value) {
 }
 
 std::string ColorParameter(const std::string& name, const Rgb& c) {
-  return "color " + name + " " + ExplorerNumber(c.r) + " " + ExplorerNumber(c.g) + " " + ExplorerNumber(c.b) + "\n";
+  return "color " + name + " " + ExplorerNumber(c.r) + " " + ExplorerNumber(c.g) + " " +
+         ExplorerNumber(c.b) + "\n";
 }
 
 std::string FloatParameter(const std::string& name, double min, double max, double value) {
-  return "float " + name + " " + ExplorerNumber(min) + " " + ExplorerNumber(std::max(max, value)) + " " +
-         ExplorerNumber(value) + "\n";
+  return "float " + name + " " + ExplorerNumber(min) + " " + ExplorerNumber(std::max(max, value)) +
+         " " + ExplorerNumber(value) + "\n";
 }
 
 std::string FloatArray(const std::string& name, const std::vector<double>& values) {
@@ -350,7 +351,9 @@ double FloatOf(const ParsedFile& f, const std::string& name, const std::string& 
   return v[0];
 }
 
-std::string Col(const Rgb& c) { return ExplorerNumber(c.r) + "," + ExplorerNumber(c.g) + "," + ExplorerNumber(c.b); }
+std::string Col(const Rgb& c) {
+  return ExplorerNumber(c.r) + "," + ExplorerNumber(c.g) + "," + ExplorerNumber(c.b);
+}
 
 }  // namespace
 
@@ -373,8 +376,8 @@ std::unique_ptr<Brdf> ReadBrdfExplorerFile(const std::string& path) {
   const std::string& model = f.model;
   if (model == "lambert") return MakeBrdf("lambert:albedo=" + Col(ColorOf(f, "albedo", path)));
   if (model == "blinn-phong") {
-    return MakeBrdf("blinn-phong:kd=" + Col(ColorOf(f, "kd", path)) +
-                    ",ks=" + Col(ColorOf(f, "ks", path)) + ",n=" + ExplorerNumber(FloatOf(f, "n", path)));
+    return MakeBrdf("blinn-phong:kd=" + Col(ColorOf(f, "kd", path)) + ",ks=" +
+                    Col(ColorOf(f, "ks", path)) + ",n=" + ExplorerNumber(FloatOf(f, "n", path)));
   }
   if (model == "ward") {
     return MakeBrdf("ward:rho_d=" + Col(ColorOf(f, "rho_d", path)) +

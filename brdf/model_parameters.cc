@@ -9,7 +9,7 @@ namespace zbrdf {
 namespace {
 
 [[noreturn]] void FailParameter(std::string_view model, std::string_view key, std::string_view rule,
-                       const std::string& got) {
+                                const std::string& got) {
   throw InputError(std::string(model) + ": " + std::string(key) + " must be " + std::string(rule) +
                    " (got " + got + ")");
 }

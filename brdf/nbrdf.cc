@@ -43,7 +43,7 @@ NbrdfNetwork::Layer ReadLayer(const std::string& path, const nlohmann::json& jso
   layer.out = json["out"].get<int>();
   if (layer.in < 1 || layer.out < 1) {
     FailNetworkFile(path, name + " has in = " + std::to_string(layer.in) +
-                   ", out = " + std::to_string(layer.out) + "; both must be >= 1");
+                              ", out = " + std::to_string(layer.out) + "; both must be >= 1");
   }
   const auto read_numbers = [&](const char* key, size_t count, std::vector<double>* values) {
     if (!json.contains(key) || !json[key].is_array()) {
@@ -51,13 +51,14 @@ NbrdfNetwork::Layer ReadLayer(const std::string& path, const nlohmann::json& jso
     }
     const nlohmann::json& array = json[key];
     if (array.size() != count) {
-      FailNetworkFile(path, name + "." + key + " has " + std::to_string(array.size()) + " values, expected " +
-                     std::to_string(count));
+      FailNetworkFile(path, name + "." + key + " has " + std::to_string(array.size()) +
+                                " values, expected " + std::to_string(count));
     }
     values->reserve(count);
     for (size_t k = 0; k < count; ++k) {
       if (!array[k].is_number() || !std::isfinite(array[k].get<double>())) {
-        FailNetworkFile(path, name + "." + key + "[" + std::to_string(k) + "] is not a finite number");
+        FailNetworkFile(path,
+                        name + "." + key + "[" + std::to_string(k) + "] is not a finite number");
       }
       values->push_back(array[k].get<double>());
     }
@@ -174,8 +175,8 @@ NbrdfNetwork ReadNbrdfNetwork(const std::string& path) {
     FailNetworkFile(path, std::string("not valid JSON (") + e.what() + ")");
   }
   if (!json.is_object() || !json.contains("format") || json["format"] != kNetworkFormat) {
-    FailNetworkFile(path,
-         std::string("\"format\" must be \"") + kNetworkFormat + "\" (see data/materials/README.md)");
+    FailNetworkFile(path, std::string("\"format\" must be \"") + kNetworkFormat +
+                              "\" (see data/materials/README.md)");
   }
   if (!json.contains("layers") || !json["layers"].is_array() || json["layers"].size() != 3) {
     FailNetworkFile(path, "\"layers\" must be an array of 3 dense layers");
@@ -187,20 +188,23 @@ NbrdfNetwork ReadNbrdfNetwork(const std::string& path) {
   for (int k = 0; k < 3; ++k) network.layers[k] = ReadLayer(path, json["layers"][k], k);
   const auto& layers = network.layers;
   if (layers[0].in != kInputs) {
-    FailNetworkFile(path, "layers[0].in is " + std::to_string(layers[0].in) + ", expected 6 inputs");
+    FailNetworkFile(path,
+                    "layers[0].in is " + std::to_string(layers[0].in) + ", expected 6 inputs");
   }
   if (layers[2].out != kOutputs) {
-    FailNetworkFile(path, "layers[2].out is " + std::to_string(layers[2].out) + ", expected 3 (RGB)");
+    FailNetworkFile(path,
+                    "layers[2].out is " + std::to_string(layers[2].out) + ", expected 3 (RGB)");
   }
   for (int k = 1; k < 3; ++k) {
     if (layers[k].in != layers[k - 1].out) {
-      FailNetworkFile(path, "layers[" + std::to_string(k) + "].in is " + std::to_string(layers[k].in) +
-                     " but layers[" + std::to_string(k - 1) + "].out is " +
-                     std::to_string(layers[k - 1].out));
+      FailNetworkFile(path, "layers[" + std::to_string(k) + "].in is " +
+                                std::to_string(layers[k].in) + " but layers[" +
+                                std::to_string(k - 1) + "].out is " +
+                                std::to_string(layers[k - 1].out));
     }
     if (layers[k].in > kMaxHidden) {
-      FailNetworkFile(path, "hidden layer " + std::to_string(k) + " has " + std::to_string(layers[k].in) +
-                     " units; at most 256 are supported");
+      FailNetworkFile(path, "hidden layer " + std::to_string(k) + " has " +
+                                std::to_string(layers[k].in) + " units; at most 256 are supported");
     }
   }
   return network;

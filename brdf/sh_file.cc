@@ -71,7 +71,8 @@ std::string ShBrdfData::Problems() const {
              std::to_string(n) + " x " + std::to_string(n);
     }
     if (!coefficients[ch].allFinite()) {
-      return std::string("SH data: channel ") + kShChannelNames[ch] + " has a non-finite coefficient";
+      return std::string("SH data: channel ") + kShChannelNames[ch] +
+             " has a non-finite coefficient";
     }
     if (exitant[ch].size() != static_cast<size_t>(exitant_theta) * exitant_phi * n) {
       return std::string("SH data: channel ") + kShChannelNames[ch] +

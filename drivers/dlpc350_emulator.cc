@@ -108,8 +108,9 @@ void Dlpc350Emulator::Handle(const std::vector<uint8_t>& message) {
   if (read) {
     std::vector<uint8_t> data;
     const bool ok = !forced_nack && ReadValue(command, &data);
-    Reply(static_cast<uint8_t>(kEmulatedFlagRead | kEmulatedFlagReply | (ok ? 0 : kEmulatedFlagNack)), sequence,
-          ok ? data : std::vector<uint8_t>{});
+    Reply(
+        static_cast<uint8_t>(kEmulatedFlagRead | kEmulatedFlagReply | (ok ? 0 : kEmulatedFlagNack)),
+        sequence, ok ? data : std::vector<uint8_t>{});
     return;
   }
   const bool ok = !forced_nack && ApplyWrite(command, payload);

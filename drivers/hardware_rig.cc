@@ -79,7 +79,8 @@ class FieldReader {
       return std::nullopt;
     }
     if (!(value >= min && value <= max)) {
-      Problem(path, "must be in [" + FormatSetting(min) + ", " + FormatSetting(max) + "] (got " + *text + ")");
+      Problem(path, "must be in [" + FormatSetting(min) + ", " + FormatSetting(max) + "] (got " +
+                        *text + ")");
       return std::nullopt;
     }
     return value;
@@ -160,9 +161,10 @@ void ReadCamera(const YAML::Node& node, FieldReader& r, RigCameraConfig* c) {
     c->check_exposure_us = *v;
   }
   if (c->check_exposure_us < c->exposure_min_us || c->check_exposure_us > c->exposure_max_us) {
-    r.Problem("camera.check_exposure_us",
-              "(" + FormatSetting(c->check_exposure_us) + ") must lie within the exposure limits [" +
-                  FormatSetting(c->exposure_min_us) + ", " + FormatSetting(c->exposure_max_us) + "]");
+    r.Problem("camera.check_exposure_us", "(" + FormatSetting(c->check_exposure_us) +
+                                              ") must lie within the exposure limits [" +
+                                              FormatSetting(c->exposure_min_us) + ", " +
+                                              FormatSetting(c->exposure_max_us) + "]");
   }
   if (auto v = r.Integer(node, "timeout_ms", "camera.timeout_ms", 1, 600000)) c->timeout_ms = *v;
   if (auto v = r.Integer(node, "retries", "camera.retries", 0, 100)) c->retries = *v;

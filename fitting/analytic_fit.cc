@@ -21,7 +21,6 @@
 namespace zbrdf {
 namespace {
 
-
 // Shape parameter <-> the optimizer's variable u: alpha = exp(u); n = exp(u) - 1.
 struct ShapeRange {
   double lo, hi;  // in u
@@ -99,7 +98,7 @@ double SpecularUpperBound(AnalyticModel m) {
 // Colours for fixed columns: per channel NNLS on [S, D] against y - O for a - a_min >= 0, with a
 // clamped to its upper bound (then b re-solved). Returns chi2.
 double SolveAnalyticColours(const FitWeights& w, const Columns& c, const Eigen::VectorXd& diffuse,
-                    double a_min, double a_max, Rgb* a, Rgb* b) {
+                            double a_min, double a_max, Rgb* a, Rgb* b) {
   double chi2 = 0;
   for (int ch = 0; ch < 3; ++ch) {
     const Eigen::VectorXd& wt = w.weight[ch];
@@ -313,13 +312,13 @@ AnalyticFitResult AnalyticFitter::Fit(const ZonalTensor& data, AnalyticModel mod
   const double u0 = MinimizeScalar(
       [&](double u) {
         Rgb a, b;
-        return SolveAnalyticColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u)), diffuse, a_min,
-                            a_max, &a, &b);
+        return SolveAnalyticColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u)), diffuse,
+                                    a_min, a_max, &a, &b);
       },
       range.lo, range.hi, 16, 18);
   Rgb a0, b0;
-  SolveAnalyticColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u0)), diffuse, a_min, a_max, &a0,
-               &b0);
+  SolveAnalyticColours(w, ModelColumns(quadrature_, model, ShapeOf(model, u0)), diffuse, a_min,
+                       a_max, &a0, &b0);
   // Ceres refinement.
   double u = u0;
   double a[3] = {a0.r, a0.g, a0.b}, b[3] = {b0.r, b0.g, b0.b};

@@ -20,7 +20,6 @@
 namespace zbrdf {
 namespace {
 
-
 std::mutex& ProjectionMutex() {
   static std::mutex m;
   return m;
@@ -388,7 +387,7 @@ double NonNegative2(double uu, double ud, double dd, double uy, double dy, doubl
 // two-column problem [F0 N q + R q, D] in closed form, F0 by a scan and golden-section search.
 // Returns the data chi2.
 double SolveDBrdfColours(const Grams& g, const Eigen::VectorXd& q, double f0_lo, double f0_hi,
-                    Solution* s) {
+                         Solution* s) {
   std::array<std::array<double, 10>, 3> m;  // aa ab bb ad bd ay by dd dy yy
   for (int ch = 0; ch < 3; ++ch) {
     m[ch] = {q.dot(g.nn[ch] * q),

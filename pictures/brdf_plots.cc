@@ -24,7 +24,7 @@ std::string Format(const char* format, double value) {
 }
 
 void PutLabel(cv::Mat& image, const std::string& text, cv::Point at, double scale = 0.45,
-          cv::Scalar color = kText) {
+              cv::Scalar color = kText) {
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, color, 1, cv::LINE_AA);
 }
 
@@ -68,9 +68,9 @@ cv::Mat PolarPanel(const IncidenceSlice& slice, bool log_scale) {
   }
   PutLabel(panel, Format("theta_i = %.0f deg", slice.theta_i_deg), cv::Point(8, 18), 0.5);
   PutLabel(panel,
-       log_scale ? Format("log10, 4 decades below %.3g /sr", f_max)
-                 : Format("max f_r = %.4g /sr", f_max),
-       cv::Point(8, 38), 0.42);
+           log_scale ? Format("log10, 4 decades below %.3g /sr", f_max)
+                     : Format("max f_r = %.4g /sr", f_max),
+           cv::Point(8, 38), 0.42);
   PutLabel(panel, "-90", cv::Point(6, kHeight - 10), 0.4);
   PutLabel(panel, "+90 deg", cv::Point(kWidth - 62, kHeight - 10), 0.4);
   PutLabel(panel, "light", at(theta_i, 1.1) + cv::Point(-10, -4), 0.4, cv::Scalar(0, 110, 220));

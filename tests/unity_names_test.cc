@@ -48,8 +48,9 @@ struct LocalName {
 // followed, outside brackets, by ( = { [ ; or , and the first one after each top-level comma
 // (`const Scalar kGrid(1), kText(2);`). Keywords and `operator` are skipped.
 std::vector<std::string> DeclaredNames(const std::string& line) {
-  static const std::set<std::string> kSkip = {"operator", "const", "constexpr", "static", "inline",
-                                              "return",   "noexcept", "override", "final"};
+  static const std::set<std::string> kSkip = {"operator", "const",    "constexpr",
+                                              "static",   "inline",   "return",
+                                              "noexcept", "override", "final"};
   std::vector<std::string> names;
   int depth = 0;
   bool want = true;  // looking for the next declarator's name
@@ -73,7 +74,8 @@ std::vector<std::string> DeclaredNames(const std::string& line) {
     }
     if (std::isspace(static_cast<unsigned char>(c))) continue;
     if (depth == 0 && want && !last.empty() && !std::isdigit(static_cast<unsigned char>(last[0])) &&
-        !kSkip.count(last) && (c == '(' || c == '=' || c == '{' || c == '[' || c == ';' || c == ',')) {
+        !kSkip.count(last) &&
+        (c == '(' || c == '=' || c == '{' || c == '[' || c == ';' || c == ',')) {
       names.push_back(last);
       want = false;
     }
@@ -119,14 +121,15 @@ FileScan ScanSource(const std::string& label, const std::string& text) {
     }
     if (line.empty() || !(IsIdentifierChar(line[0]) || line[0] == '[')) continue;
     if (line.rfind("using namespace ", 0) == 0) {
-      scan.violations.push_back(where + ": `" + trimmed + "` at namespace scope reaches every "
+      scan.violations.push_back(where + ": `" + trimmed +
+                                "` at namespace scope reaches every "
                                 "source after it in a unity batch; qualify the names, or put it "
                                 "inside a function");
       continue;
     }
     // Using-declarations, aliases and namespace aliases at namespace scope are file-local too.
-    if (line.rfind("using ", 0) == 0 || (line.rfind("namespace ", 0) == 0 &&
-                                         line.find('=') != std::string::npos)) {
+    if (line.rfind("using ", 0) == 0 ||
+        (line.rfind("namespace ", 0) == 0 && line.find('=') != std::string::npos)) {
       std::string rest = line.substr(line.find(' ') + 1);
       const size_t end = rest.find_first_of("=;");
       std::string name = Trimmed(rest.substr(0, end));
@@ -185,8 +188,8 @@ std::vector<std::string> Clashes(const std::map<std::string, FileScan>& files) {
 // compiled in unity batches of this kind), and the fuzz stage's readers.
 std::map<std::string, std::vector<fs::path>> UnityGroups(const std::string& root,
                                                          const std::string& extension = ".cc") {
-  static const std::set<std::string> kNotLibraries = {"tests", "fuzz", "bench", "docs", "data",
-                                                      "scripts", "cmake"};
+  static const std::set<std::string> kNotLibraries = {"tests", "fuzz",    "bench", "docs",
+                                                      "data",  "scripts", "cmake"};
   std::map<std::string, std::vector<fs::path>> groups;
   for (const auto& top : fs::directory_iterator(root)) {
     const std::string name = top.path().filename().string();
@@ -229,8 +232,9 @@ std::map<std::string, std::string> HeaderNames(const std::string& root) {
       // Scan the header as if it were all one anonymous namespace: same column-0 rules.
       for (const LocalName& n : ScanSource(label, "namespace {\n" + text).names) {
         if (n.repeatable) continue;
-        names.emplace(n.name, label + ":" + std::to_string(std::stoi(n.where.substr(
-                                                  n.where.rfind(':') + 1)) - 1));
+        names.emplace(
+            n.name,
+            label + ":" + std::to_string(std::stoi(n.where.substr(n.where.rfind(':') + 1)) - 1));
       }
     }
   }
@@ -264,7 +268,8 @@ TEST(UnityNames, NoTwoSourcesOfALibraryShareAFileLocalName) {
         if (n.repeatable && n.text.find('=') == std::string::npos) continue;
         if (auto h = header_names.find(n.name); h != header_names.end()) {
           problems.push_back(n.where + ": " + n.name + " is file-local here and declared in " +
-                             h->second + "; in a unity batch with a source that includes that "
+                             h->second +
+                             "; in a unity batch with a source that includes that "
                              "header the two clash or overload: rename the file-local one");
         }
       }
@@ -309,8 +314,8 @@ TEST(UnityNames, TheScannerFindsHelpersConstantsTypesAndAliases) {
                                    "}  // namespace zbrdf\n");
   std::vector<std::string> names;
   for (const LocalName& n : scan.names) names.push_back(n.name);
-  const std::vector<std::string> expected = {"fs",       "kFormat", "kGrid", "kText", "Fail",  "Pairs",
-                                             "Contents", "Mode",    "Twice", "Text"};
+  const std::vector<std::string> expected = {"fs",    "kFormat",  "kGrid", "kText", "Fail",
+                                             "Pairs", "Contents", "Mode",  "Twice", "Text"};
   EXPECT_EQ(names, expected);
   EXPECT_TRUE(scan.violations.empty());
   EXPECT_EQ(scan.names.back().where, "a.cc:22");

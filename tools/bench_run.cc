@@ -162,7 +162,8 @@ class MaterialBench {
     row["coefficient_error"] = JsonOrNull(PaddedCoefficientError(zonal, truth_, s.order));
     // Against the truth up to the bench's largest order: comparable across strategies (a low
     // order is charged for the bands it leaves out).
-    row["coefficient_error_common"] = JsonOrNull(PaddedCoefficientError(zonal, truth_, truth_order));
+    row["coefficient_error_common"] =
+        JsonOrNull(PaddedCoefficientError(zonal, truth_, truth_order));
     // SH conversion and its errors.
     const ZonalTensor tensor = ToZonalTensor(zonal);
     auto t = WallClock::now();
@@ -616,12 +617,14 @@ nlohmann::json MeasureBenchFloor(const BenchOptions& options, bool* interrupted)
   adaptive.floor_profile = FloorProfile(bands);
   nlohmann::json energies = nlohmann::json::array();
   for (const AdaptiveBand& b : bands) energies.push_back(b.energy);
-  const nlohmann::json floor = {
-      {"material", "target:white"},       {"order", max_order},
-      {"band_energy", energies},          {"floor_profile", adaptive.floor_profile},
-      {"adaptive_options", adaptive.ToJson()},
-      {"capture_time_s", capture_time_s}, {"wall_s", SecondsSince(t)},
-      {"batch_options", manifest.options}};
+  const nlohmann::json floor = {{"material", "target:white"},
+                                {"order", max_order},
+                                {"band_energy", energies},
+                                {"floor_profile", adaptive.floor_profile},
+                                {"adaptive_options", adaptive.ToJson()},
+                                {"capture_time_s", capture_time_s},
+                                {"wall_s", SecondsSince(t)},
+                                {"batch_options", manifest.options}};
   WriteFileAtomically(floor_path, floor.dump(2) + "\n");
   return floor;
 }
@@ -735,8 +738,9 @@ BenchSummary RunBench(const BenchOptions& options) {
     std::lock_guard<std::mutex> lock(mutex);
     summary.failed += failed;
     try {
-      WriteItemResult(options.out_dir, manifest, item,
-                      {{"material", materials[mi]}, {"rows", rows}, {"wall_s", SecondsSince(material_start)}});
+      WriteItemResult(
+          options.out_dir, manifest, item,
+          {{"material", materials[mi]}, {"rows", rows}, {"wall_s", SecondsSince(material_start)}});
       write_outputs();
     } catch (...) {
       if (!output_error) output_error = std::current_exception();

@@ -12,14 +12,14 @@
 #include "acquisition/session.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/hash.h"
 #include "basis/option_checker.h"
+#include "basis/stopwatch.h"
 #include "brdf/brdf_prior.h"
 #include "brdf/dbrdf_file.h"
-#include "brdf/tabulated_file.h"
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
-#include "basis/hash.h"
-#include "basis/stopwatch.h"
+#include "brdf/tabulated_file.h"
 #include "fitting/model_selection.h"
 #include "pictures/brdf_figure.h"
 #include "rig/direction_maps.h"
@@ -27,7 +27,6 @@
 
 namespace zbrdf {
 namespace {
-
 
 nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 

@@ -88,13 +88,15 @@ std::string RunBasisCase(const BasisCase& c) {
       {"smallest_kept_singular_value", r.smallest_kept_singular_value},
       {"roundtrip_error_in_zone", r.roundtrip_error_in_zone},
       {"noisy_roundtrip_error_in_zone", r.noisy_roundtrip_error_in_zone}};
-  for (const auto& [name, v] : values) Check(std::isfinite(v), std::string(name) + std::string(" is ") + FormatValue(v));
+  for (const auto& [name, v] : values)
+    Check(std::isfinite(v), std::string(name) + std::string(" is ") + FormatValue(v));
   if (r.has_outside) {
     Check(std::isfinite(r.roundtrip_error_outside_zone), "roundtrip_error_outside_zone is not finite");
     Check(std::isfinite(r.noisy_roundtrip_error_outside_zone),
           "noisy_roundtrip_error_outside_zone is not finite");
   }
-  for (double v : r.gram_condition_per_m) Check(std::isfinite(v) && v >= 1, std::string("a Gram condition is ") + FormatValue(v));
+  for (double v : r.gram_condition_per_m)
+    Check(std::isfinite(v) && v >= 1, std::string("a Gram condition is ") + FormatValue(v));
   // The ZB is orthonormal by construction; the product rule integrates it exactly, so what is
   // left is rounding: 4e-14 at order 30 (docs/design.md section 3); 1e-10 leaves margin.
   // On a sliver of a zone the directions' cos(theta) = x carries an absolute rounding of eps,
@@ -104,22 +106,26 @@ std::string RunBasisCase(const BasisCase& c) {
   const double width = zone.cos_upper() - zone.cos_lower();
   const double orthonormality_tol = 1e-10 + 100 * std::numeric_limits<double>::epsilon() / width;
   Check(r.zb_orthonormality_max_error < orthonormality_tol,
-        std::string("ZB orthonormality error ") + FormatValue(r.zb_orthonormality_max_error) + " >= " +
-            FormatValue(orthonormality_tol));
+        std::string("ZB orthonormality error ") + FormatValue(r.zb_orthonormality_max_error) +
+            " >= " + FormatValue(orthonormality_tol));
   // Truncation at tau bounds the noise gain: 1 / sigma_kept <= 1 / (tau sigma_max).
   if (c.tau > 0) {
     Check(r.noise_gain * c.tau * r.largest_singular_value <= 1 + 1e-12,
           std::string("noise gain ") + FormatValue(r.noise_gain) + " exceeds 1 / (tau sigma_max)");
   }
   Check(r.roundtrip_error_in_zone <= c.max_roundtrip_in_zone,
-        std::string("round trip in zone ") + FormatValue(r.roundtrip_error_in_zone) + std::string(" > ") + FormatValue(c.max_roundtrip_in_zone));
+        std::string("round trip in zone ") + FormatValue(r.roundtrip_error_in_zone) +
+            std::string(" > ") + FormatValue(c.max_roundtrip_in_zone));
   if (c.expect_truncation) {
     Check(r.truncated_components > 0, "nothing was truncated on an ill-conditioned zone");
     Check(!r.warnings.empty(), "no warning about the truncation / extrapolation");
   }
-  return std::string("noise gain ") + FormatValue(r.noise_gain) + std::string(", truncated ") + std::to_string(r.truncated_components) +
-         std::string(" of ") + std::to_string(r.target_size) + ", round trip in zone " +
-         FormatValue(r.roundtrip_error_in_zone) + (r.has_outside ? std::string(", outside ") + FormatValue(r.roundtrip_error_outside_zone) : "") +
+  return std::string("noise gain ") + FormatValue(r.noise_gain) + std::string(", truncated ") +
+         std::to_string(r.truncated_components) + std::string(" of ") +
+         std::to_string(r.target_size) + ", round trip in zone " +
+         FormatValue(r.roundtrip_error_in_zone) +
+         (r.has_outside ? std::string(", outside ") + FormatValue(r.roundtrip_error_outside_zone)
+                        : "") +
          std::string(", ") + std::to_string(r.warnings.size()) + " warning(s)";
 }
 
@@ -138,7 +144,8 @@ std::string RunConvertNanMoments() {
   }
   t.z[1](2, 3) = kNaN;
   const ShConversionResult r = ConvertToSh(t, {});
-  return std::string("converted data holding a NaN (noise gain ") + FormatValue(r.diagnostics.noise_gain) + ")";
+  return std::string("converted data holding a NaN (noise gain ") +
+         FormatValue(r.diagnostics.noise_gain) + ")";
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -173,8 +180,8 @@ std::vector<Frame> Bracket(uint16_t value) {
 void CheckHdrFinite(const HdrImage& hdr) {
   for (size_t p = 0; p < hdr.rate.size(); ++p) {
     Check(std::isfinite(hdr.rate[p]) && std::isfinite(hdr.variance[p]) && hdr.variance[p] >= 0,
-          std::string("pixel ") + std::to_string(p) + std::string(": rate ") + FormatValue(hdr.rate[p]) + ", variance " +
-              FormatValue(hdr.variance[p]));
+          std::string("pixel ") + std::to_string(p) + std::string(": rate ") +
+              FormatValue(hdr.rate[p]) + ", variance " + FormatValue(hdr.variance[p]));
   }
 }
 
@@ -189,7 +196,8 @@ std::string RunHdrAllBlack() {
   const double rate = hdr.rate[0];
   Check(rate <= -1e4 * (1 - 1e-5) && rate >= -1.6e5 * (1 + 1e-5),
         std::string("rate ") + FormatValue(rate) + " outside [-1.6e5, -1e4] e-/s");
-  return std::string("256 valid pixels, rate ") + FormatValue(rate) + " e-/s (black offset), finite variances";
+  return std::string("256 valid pixels, rate ") + FormatValue(rate) +
+         " e-/s (black offset), finite variances";
 }
 
 std::string RunHdrAllSaturated() {
@@ -314,7 +322,8 @@ std::string RunZonalRead(const std::string& dir, const std::string& part, const 
   ReadZonalExr(good);  // the undamaged file reads
   CopyExrWithValue(good, bad, part, channel, 5, value);
   ReadZonalExr(bad);
-  return std::string("read back a zonal.exr holding ") + FormatValue(value) + " in " + part + "/" + channel;
+  return std::string("read back a zonal.exr holding ") + FormatValue(value) + " in " + part + "/" +
+         channel;
 }
 
 std::string CheckOutputsFinite(const std::string& dir) {
@@ -422,8 +431,8 @@ struct CaptureCase {
   bool write_hdr_images = false;  // hdr/*.exr too (checked for NaN like the other outputs)
 };
 
-
-std::string RunStressCapture(const CaptureCase& c, const StressOptions& options, const std::string& dir) {
+std::string RunStressCapture(const CaptureCase& c, const StressOptions& options,
+                             const std::string& dir) {
   VirtualCaptureArgs args;
   const std::string rig_path =
       options.rig_path.empty() ? DataPath("rig/rigs/thesis.yaml") : options.rig_path;
@@ -442,7 +451,9 @@ std::string RunStressCapture(const CaptureCase& c, const StressOptions& options,
   args.job.processing.write_hdr_images = c.write_hdr_images;
   const auto start = std::chrono::steady_clock::now();
   const auto seconds = [&start] {
-    return FormatValue(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) + " s";
+    return FormatValue(
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) +
+           " s";
   };
   const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
   Check(outcome.result.complete, "the capture did not complete");
@@ -459,8 +470,9 @@ std::string RunStressCapture(const CaptureCase& c, const StressOptions& options,
   const ShConversionResult sh = ConvertToSh(data, {});
   Check(CountNonFiniteJson(sh.ToJson()) == 0, "the conversion report holds NaN/Inf");
   WriteShFile(session + "/sh-sh.exr", sh.data);
-  detail += std::string("; convert: tau ") + FormatValue(sh.tau) + std::string(", ") + std::to_string(sh.kept_directions) + "/" +
-            std::to_string(sh.singular_directions) + " kept";
+  detail += std::string("; convert: tau ") + FormatValue(sh.tau) + std::string(", ") +
+            std::to_string(sh.kept_directions) + "/" + std::to_string(sh.singular_directions) +
+            " kept";
 
   // The fits; a refusal with a clear error is an acceptable answer for data that carry no
   // signal, and is reported as the case's outcome.
@@ -483,12 +495,13 @@ std::string RunStressCapture(const CaptureCase& c, const StressOptions& options,
 std::vector<StressCase> MakeCases() {
   std::vector<StressCase> cases;
   const auto basis = [&](const std::string& name, const std::string& what, const BasisCase& c) {
-    cases.push_back({name, "basis", what,
-                     "finite report; ZB orthonormality < 1e-10 + 100 eps/(b-a); round trip in zone <= " +
-                         FormatValue(c.max_roundtrip_in_zone) + "; noise gain <= 1/(tau sigma_max)" +
-                         (c.expect_truncation ? "; truncates and warns" : ""),
-                     StressExpect::kSuccess,
-                     [c](const StressOptions&, const std::string&) { return RunBasisCase(c); }});
+    cases.push_back(
+        {name, "basis", what,
+         "finite report; ZB orthonormality < 1e-10 + 100 eps/(b-a); round trip in zone <= " +
+             FormatValue(c.max_roundtrip_in_zone) + "; noise gain <= 1/(tau sigma_max)" +
+             (c.expect_truncation ? "; truncates and warns" : ""),
+         StressExpect::kSuccess,
+         [c](const StressOptions&, const std::string&) { return RunBasisCase(c); }});
   };
   basis("basis-order30-narrow", "zone 40-45 deg, order 30, all SH: cond(Gram) far beyond 1/eps",
         {40, 45, 30, TargetKind::kSh, kDefaultTau, 1e-8, true});
@@ -598,7 +611,9 @@ std::vector<StressCase> MakeCases() {
   const auto capture = [&](const std::string& name, const std::string& what, const CaptureCase& c,
                            StressExpect expect, const std::string& tolerance) {
     cases.push_back({name, "capture", what, tolerance, expect,
-                     [c](const StressOptions& o, const std::string& dir) { return RunStressCapture(c, o, dir); }});
+                     [c](const StressOptions& o, const std::string& dir) {
+                       return RunStressCapture(c, o, dir);
+                     }});
   };
   // GGX fits take seconds each: they run where the model is most strained (a mirror: alpha -> 0)
   // and where they are cheap (diffuse); the D-BRDF fit runs everywhere.

@@ -128,8 +128,9 @@ int RunAccuracyCommand(const std::vector<std::string>& args) {
   return summary.interrupted ? 130 : 0;
 }
 
-const CommandRegistration kAccuracyCommand({"accuracy", "whole-hemisphere accuracy benchmark (leave-one-out, MERL and RGL)",
-                                RunAccuracyCommand});
+const CommandRegistration kAccuracyCommand(
+    {"accuracy", "whole-hemisphere accuracy benchmark (leave-one-out, MERL and RGL)",
+     RunAccuracyCommand});
 
 }  // namespace
 }  // namespace zbrdf::cli

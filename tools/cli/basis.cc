@@ -112,8 +112,8 @@ int RunBasis(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kBasisCommand({"basis", "conditioning report of the zonal basis and its SH conversion",
-                                RunBasis});
+const CommandRegistration kBasisCommand(
+    {"basis", "conditioning report of the zonal basis and its SH conversion", RunBasis});
 
 }  // namespace
 }  // namespace zbrdf::cli

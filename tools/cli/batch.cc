@@ -203,8 +203,10 @@ int RunBatch(const std::vector<std::string>& args) {
   throw InputError("unknown batch action '" + action + "'; use merge, status or resubmit (zbrdf batch --help)");
 }
 
-const CommandRegistration kBatchCommand({"batch", "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench, prior build)",
-                                RunBatch});
+const CommandRegistration kBatchCommand(
+    {"batch",
+     "merge, status and resubmit of a sharded batch (fit-all, accuracy, bench, prior build)",
+     RunBatch});
 
 }  // namespace
 }  // namespace zbrdf::cli

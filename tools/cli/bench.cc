@@ -172,9 +172,9 @@ int RunBenchCommand(const std::vector<std::string>& args) {
 }
 
 const CommandRegistration kBenchCommand({"bench",
-                                "benchmark capture strategies (fixed, adaptive) against "
-                                "ground truth: time vs error",
-                                RunBenchCommand});
+                                         "benchmark capture strategies (fixed, adaptive) against "
+                                         "ground truth: time vs error",
+                                         RunBenchCommand});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -148,8 +148,8 @@ int RunCalibrate(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kCalibrateCommand({"calibrate", "calibrate a rig: geometry, projector, noise, gray card",
-                                RunCalibrate});
+const CommandRegistration kCalibrateCommand(
+    {"calibrate", "calibrate a rig: geometry, projector, noise, gray card", RunCalibrate});
 
 }  // namespace
 }  // namespace zbrdf::cli

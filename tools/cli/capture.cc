@@ -165,8 +165,9 @@ int RunCaptureCommand(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kCaptureCommand({"capture", "capture a session on a rig (hardware or virtual) and process it",
-                                RunCaptureCommand});
+const CommandRegistration kCaptureCommand(
+    {"capture", "capture a session on a rig (hardware or virtual) and process it",
+     RunCaptureCommand});
 
 }  // namespace
 }  // namespace zbrdf::cli

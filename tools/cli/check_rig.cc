@@ -108,7 +108,7 @@ int RunCheckRig(const std::vector<std::string>& args) {
 }
 
 const CommandRegistration kCheckRigCommand({"check-rig", "self-test the hardware rig of a rig file",
-                                RunCheckRig});
+                                            RunCheckRig});
 
 }  // namespace
 }  // namespace zbrdf::cli

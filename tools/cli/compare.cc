@@ -67,8 +67,9 @@ int RunCompare(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kCompareCommand({"compare", "render two BRDFs side by side with error metrics",
-                                RunCompare});
+const CommandRegistration kCompareCommand({"compare",
+                                           "render two BRDFs side by side with error metrics",
+                                           RunCompare});
 
 }  // namespace
 }  // namespace zbrdf::cli

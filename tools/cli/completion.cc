@@ -190,7 +190,7 @@ int RunCompletion(const std::vector<std::string>& args) {
 }
 
 const CommandRegistration kCompletionCommand({"completion", "print a bash or zsh completion script",
-                                RunCompletion});
+                                              RunCompletion});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -105,8 +105,9 @@ int RunConvert(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kConvertCommand({"convert", "convert a session's zonal data to spherical harmonics",
-                                RunConvert});
+const CommandRegistration kConvertCommand({"convert",
+                                           "convert a session's zonal data to spherical harmonics",
+                                           RunConvert});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -72,8 +72,8 @@ int RunDesignDome(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kDesignDomeCommand({"design-dome", "design the dome profile of a rig; drawing and zone report",
-                                RunDesignDome});
+const CommandRegistration kDesignDomeCommand(
+    {"design-dome", "design the dome profile of a rig; drawing and zone report", RunDesignDome});
 
 }  // namespace
 }  // namespace zbrdf::cli

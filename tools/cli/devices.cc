@@ -129,9 +129,8 @@ int RunDevices(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kDevicesCommand({"devices",
-                                "list cameras (broadcast discovery), DLPC350s and X11 outputs",
-                                RunDevices});
+const CommandRegistration kDevicesCommand(
+    {"devices", "list cameras (broadcast discovery), DLPC350s and X11 outputs", RunDevices});
 
 }  // namespace
 }  // namespace zbrdf::cli

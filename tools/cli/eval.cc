@@ -89,9 +89,8 @@ int RunEval(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kEvalCommand({"eval",
-                                "evaluate f_r of a material, fit or file at given directions",
-                                RunEval});
+const CommandRegistration kEvalCommand(
+    {"eval", "evaluate f_r of a material, fit or file at given directions", RunEval});
 
 }  // namespace
 }  // namespace zbrdf::cli

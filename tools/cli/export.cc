@@ -120,9 +120,8 @@ int RunExport(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kExportCommand({"export",
-                                "write a BRDF as MERL, RGL .bsdf, SH, D-BRDF or BRDF Explorer file",
-                                RunExport});
+const CommandRegistration kExportCommand(
+    {"export", "write a BRDF as MERL, RGL .bsdf, SH, D-BRDF or BRDF Explorer file", RunExport});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -80,8 +80,8 @@ int RunFit(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kFitCommand({"fit", "fit a prior, D-BRDF or analytic model to a session (or choose: auto)",
-                                RunFit});
+const CommandRegistration kFitCommand(
+    {"fit", "fit a prior, D-BRDF or analytic model to a session (or choose: auto)", RunFit});
 
 }  // namespace
 }  // namespace zbrdf::cli

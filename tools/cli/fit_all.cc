@@ -133,8 +133,9 @@ int RunFitAllCommand(const std::vector<std::string>& args) {
   return summary.failed > 0 ? 1 : 0;
 }
 
-const CommandRegistration kFitAllCommand({"fit-all", "simulate and fit many materials; table of model errors",
-                                RunFitAllCommand});
+const CommandRegistration kFitAllCommand({"fit-all",
+                                          "simulate and fit many materials; table of model errors",
+                                          RunFitAllCommand});
 
 }  // namespace
 }  // namespace zbrdf::cli

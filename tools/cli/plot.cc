@@ -138,9 +138,8 @@ int RunPlot(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kPlotCommand({"plot",
-                                "polar plots of BRDF slices and per-band coefficient energy",
-                                RunPlot});
+const CommandRegistration kPlotCommand(
+    {"plot", "polar plots of BRDF slices and per-band coefficient energy", RunPlot});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -233,10 +233,11 @@ int RunPreview(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kPreviewCommand({"preview",
-                                "render a material ball of a BRDF (PNG, optional EXR), or a "
-                                "turntable / environment-sequence animation",
-                                RunPreview});
+const CommandRegistration kPreviewCommand(
+    {"preview",
+     "render a material ball of a BRDF (PNG, optional EXR), or a "
+     "turntable / environment-sequence animation",
+     RunPreview});
 
 }  // namespace
 }  // namespace zbrdf::cli

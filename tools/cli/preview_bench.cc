@@ -102,9 +102,9 @@ int RunPreviewBench(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kPreviewBenchCommand({"preview-bench",
-                                "MIS, SIR and SMC relighting on a turntable: error against time",
-                                RunPreviewBench});
+const CommandRegistration kPreviewBenchCommand(
+    {"preview-bench", "MIS, SIR and SMC relighting on a turntable: error against time",
+     RunPreviewBench});
 
 }  // namespace
 }  // namespace zbrdf::cli

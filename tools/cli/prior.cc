@@ -140,11 +140,11 @@ int RunPrior(const std::vector<std::string>& args) {
   throw InputError("zbrdf prior: unknown action '" + args[0] + "'; use build or info");
 }
 
-const CommandRegistration kPriorCommand({"prior",
-                                "build or inspect a measured-material prior (fit --model prior)",
-                                RunPrior,
-                                {{"build", "build a prior from measured materials"},
-                                 {"info", "list a prior's materials"}}});
+const CommandRegistration kPriorCommand(
+    {"prior",
+     "build or inspect a measured-material prior (fit --model prior)",
+     RunPrior,
+     {{"build", "build a prior from measured materials"}, {"info", "list a prior's materials"}}});
 
 }  // namespace
 }  // namespace zbrdf::cli

@@ -94,7 +94,9 @@ int RunProcess(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kProcessCommand({"process", "re-process a captured session into zonal.exr", RunProcess});
+const CommandRegistration kProcessCommand({"process",
+                                           "re-process a captured session into zonal.exr",
+                                           RunProcess});
 
 }  // namespace
 }  // namespace zbrdf::cli

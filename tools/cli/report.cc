@@ -98,10 +98,11 @@ int RunReport(const std::vector<std::string>& args) {
   return 0;
 }
 
-const CommandRegistration kReportCommand({"report",
-                                "write a self-contained HTML report of a session, or an index of a "
-                                "folder of sessions",
-                                RunReport});
+const CommandRegistration kReportCommand(
+    {"report",
+     "write a self-contained HTML report of a session, or an index of a "
+     "folder of sessions",
+     RunReport});
 
 }  // namespace
 }  // namespace zbrdf::cli

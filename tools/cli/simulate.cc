@@ -142,8 +142,9 @@ int RunSimulate(const std::vector<std::string>& argv) {
   return 0;
 }
 
-const CommandRegistration kSimulateCommand({"simulate", "simulate and process a capture session of a material",
-                                RunSimulate});
+const CommandRegistration kSimulateCommand({"simulate",
+                                            "simulate and process a capture session of a material",
+                                            RunSimulate});
 
 }  // namespace
 }  // namespace zbrdf::cli

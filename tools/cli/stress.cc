@@ -125,8 +125,8 @@ int RunStress(const std::vector<std::string>& args) {
   return failed > 0 ? 1 : 0;
 }
 
-const CommandRegistration kStressCommand({"stress", "numerical stability suite: extreme orders, zones, materials, frames",
-                                RunStress});
+const CommandRegistration kStressCommand(
+    {"stress", "numerical stability suite: extreme orders, zones, materials, frames", RunStress});
 
 }  // namespace
 }  // namespace zbrdf::cli
