@@ -36,11 +36,11 @@ void WriteRgbHalfExr(const std::string& path, const cv::Mat& rgb) {
   Imf::Header header(w, h);
   header.compression() = Imf::PIZ_COMPRESSION;
   Imf::FrameBuffer fb;
-  const char* names[3] = {"R", "G", "B"};
   for (int c = 0; c < 3; ++c) {
-    header.channels().insert(names[c], Imf::Channel(Imf::HALF));
-    fb.insert(names[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(channels[c].data()),
-                                   sizeof(half), sizeof(half) * w));
+    header.channels().insert(kRgbChannelNames[c], Imf::Channel(Imf::HALF));
+    fb.insert(kRgbChannelNames[c],
+              Imf::Slice(Imf::HALF, reinterpret_cast<char*>(channels[c].data()), sizeof(half),
+                         sizeof(half) * w));
   }
   Imf::StdOSStream stream;  // encoded in memory, written through basis/atomic_file.h
   try {

@@ -294,8 +294,6 @@ void ProjectExitant(ZonalData* data) {
 // ---------------------------------------------------------------------------------------------
 namespace {
 
-const char* kZonalChannelNames[3] = {"R", "G", "B"};
-
 std::string FunctionLayer(int k) {
   int l, m;
   ShDegreeOrder(k, &l, &m);
@@ -322,14 +320,14 @@ std::string FirstInvalidValue(const ZonalData& data) {
       const std::vector<float>& variance = data.functions[k].variance[ch];
       for (size_t c = 0; c < value.size(); ++c) {
         if (bad(value[c], false)) {
-          return "grid value " + FunctionLayer(static_cast<int>(k)) + "." + kZonalChannelNames[ch] +
+          return "grid value " + FunctionLayer(static_cast<int>(k)) + "." + kRgbChannelNames[ch] +
                  " at cell " + std::to_string(c) + " is " + text(value[c]);
         }
       }
       for (size_t c = 0; c < variance.size(); ++c) {
         if (bad(variance[c], true)) {
           return "grid variance " + FunctionLayer(static_cast<int>(k)) + ".var." +
-                 kZonalChannelNames[ch] + " at cell " + std::to_string(c) + " is " +
+                 kRgbChannelNames[ch] + " at cell " + std::to_string(c) + " is " +
                  text(variance[c]);
         }
       }
@@ -342,7 +340,7 @@ std::string FirstInvalidValue(const ZonalData& data) {
         for (Eigen::Index j = 0; j < m.cols(); ++j) {
           if (bad(m(k, j), variance)) {
             return std::string("tensor ") + (variance ? "variance var." : "coefficient z.") +
-                   kZonalChannelNames[ch] + "(" + std::to_string(k) + ", " + std::to_string(j) +
+                   kRgbChannelNames[ch] + "(" + std::to_string(k) + ", " + std::to_string(j) +
                    ") is " + text(m(k, j));
           }
         }
@@ -377,14 +375,14 @@ void WriteZonalExr(const std::string& path, const ZonalData& data) {
   for (int k = 0; k < n; ++k) {
     const std::string layer = FunctionLayer(k);
     for (int ch = 0; ch < 3; ++ch) {
-      writer.AddImageChannel(layer + "." + kZonalChannelNames[ch], data.functions[k].value[ch]);
-      writer.AddImageChannel(layer + ".var." + kZonalChannelNames[ch],
+      writer.AddImageChannel(layer + "." + kRgbChannelNames[ch], data.functions[k].value[ch]);
+      writer.AddImageChannel(layer + ".var." + kRgbChannelNames[ch],
                              data.functions[k].variance[ch]);
     }
   }
   if (n > 0) {
     for (int ch = 0; ch < 3; ++ch) {
-      writer.AddImageChannel(std::string("weight.") + kZonalChannelNames[ch],
+      writer.AddImageChannel(std::string("weight.") + kRgbChannelNames[ch],
                              data.functions[0].weight[ch]);
     }
     std::vector<float> filled(cells);
@@ -399,8 +397,8 @@ void WriteZonalExr(const std::string& path, const ZonalData& data) {
         var[k * n + j] = static_cast<float>(data.tensor_variance[ch](k, j));
       }
     }
-    writer.AddTensorChannel(std::string("z.") + kZonalChannelNames[ch], std::move(v));
-    writer.AddTensorChannel(std::string("var.") + kZonalChannelNames[ch], std::move(var));
+    writer.AddTensorChannel(std::string("z.") + kRgbChannelNames[ch], std::move(v));
+    writer.AddTensorChannel(std::string("var.") + kRgbChannelNames[ch], std::move(var));
   }
   writer.Write(path, path);
 }
@@ -463,15 +461,15 @@ ZonalData ReadZonalExr(const std::string& path) {
     for (int k = 0; k < n; ++k) {
       const std::string layer = FunctionLayer(k);
       for (int ch = 0; ch < 3; ++ch) {
-        slice(fb, h, layer + "." + kZonalChannelNames[ch], data.functions[k].value[ch],
+        slice(fb, h, layer + "." + kRgbChannelNames[ch], data.functions[k].value[ch],
               data.grid.n_phi, cells, window.min.x, window.min.y);
-        slice(fb, h, layer + ".var." + kZonalChannelNames[ch], data.functions[k].variance[ch],
+        slice(fb, h, layer + ".var." + kRgbChannelNames[ch], data.functions[k].variance[ch],
               data.grid.n_phi, cells, window.min.x, window.min.y);
       }
     }
     std::array<std::vector<float>, 3> weight;
     for (int ch = 0; ch < 3; ++ch) {
-      slice(fb, h, std::string("weight.") + kZonalChannelNames[ch], weight[ch], data.grid.n_phi,
+      slice(fb, h, std::string("weight.") + kRgbChannelNames[ch], weight[ch], data.grid.n_phi,
             cells, window.min.x, window.min.y);
     }
     slice(fb, h, "filled", filled, data.grid.n_phi, cells, window.min.x, window.min.y);
@@ -492,9 +490,9 @@ ZonalData ReadZonalExr(const std::string& path) {
     Imf::FrameBuffer tfb;
     std::array<std::vector<float>, 3> tv, tvar;
     for (int ch = 0; ch < 3; ++ch) {
-      slice(tfb, th, std::string("z.") + kZonalChannelNames[ch], tv[ch], n, n * n, tw.min.x,
+      slice(tfb, th, std::string("z.") + kRgbChannelNames[ch], tv[ch], n, n * n, tw.min.x,
             tw.min.y);
-      slice(tfb, th, std::string("var.") + kZonalChannelNames[ch], tvar[ch], n, n * n, tw.min.x,
+      slice(tfb, th, std::string("var.") + kRgbChannelNames[ch], tvar[ch], n, n * n, tw.min.x,
             tw.min.y);
     }
     Imf::InputPart tensor(file, tensor_part);

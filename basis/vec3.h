@@ -86,6 +86,9 @@ struct Rgb {
   bool IsFinite() const { return std::isfinite(r) && std::isfinite(g) && std::isfinite(b); }
 };
 
+// The colour channels' names in files and messages, in Rgb's order (OpenEXR's names).
+inline constexpr const char* kRgbChannelNames[3] = {"R", "G", "B"};
+
 constexpr Rgb operator*(double s, const Rgb& c) { return c * s; }
 
 }  // namespace zbrdf

@@ -26,7 +26,6 @@ namespace {
 constexpr char kPriorFormat[] = "zbrdf-prior-v1";
 // Largest finite half is 65504; atoms above this are scaled down by a per-atom factor.
 constexpr double kHalfCeiling = 60000.0;
-constexpr const char* kPriorChannelNames[3] = {"R", "G", "B"};
 
 }  // namespace
 
@@ -136,7 +135,7 @@ void WritePriorFile(const std::string& path, const BrdfPrior& prior) {
       data[static_cast<size_t>(a) * width + n] = half(static_cast<float>(prior.atoms(n, a) / scale));
     }
     atoms.push_back({{"material", prior.materials[a / 3]},
-                     {"channel", kPriorChannelNames[a % 3]},
+                     {"channel", kRgbChannelNames[a % 3]},
                      {"scale", scale},
                      {"source", prior.sources[a / 3]}});
   }

@@ -29,7 +29,6 @@ constexpr char kNormalization[] =
     "K_lm = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!), P_l^m with the (-1)^m phase; sh-even/sh-odd: "
     "the Y_lm with l+|m| even/odd, same normalization; hsh: H_lm(theta, phi) = sqrt(2) "
     "Y_lm(arccos(2 cos theta - 1), phi) on the upper hemisphere, 0 below";
-const char* kShChannelNames[3] = {"R", "G", "B"};
 
 }  // namespace
 
@@ -67,15 +66,15 @@ std::string ShBrdfData::Problems() const {
   const int n = size();
   for (int ch = 0; ch < 3; ++ch) {
     if (coefficients[ch].rows() != n || coefficients[ch].cols() != n) {
-      return std::string("SH data: channel ") + kShChannelNames[ch] + " coefficients are not " +
+      return std::string("SH data: channel ") + kRgbChannelNames[ch] + " coefficients are not " +
              std::to_string(n) + " x " + std::to_string(n);
     }
     if (!coefficients[ch].allFinite()) {
-      return std::string("SH data: channel ") + kShChannelNames[ch] +
+      return std::string("SH data: channel ") + kRgbChannelNames[ch] +
              " has a non-finite coefficient";
     }
     if (exitant[ch].size() != static_cast<size_t>(exitant_theta) * exitant_phi * n) {
-      return std::string("SH data: channel ") + kShChannelNames[ch] +
+      return std::string("SH data: channel ") + kRgbChannelNames[ch] +
              " per-exitant table has the wrong size (call FillExitantTables())";
     }
   }
@@ -107,7 +106,7 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
   for (int a = 0; a < n; ++a) {
     const std::string layer = ShLayerName(data.target, basis.degree(a), basis.azimuthal_order(a));
     for (int ch = 0; ch < 3; ++ch) {
-      writer.AddImageChannel(layer + "." + kShChannelNames[ch], data.exitant[ch].data() + a, n,
+      writer.AddImageChannel(layer + "." + kRgbChannelNames[ch], data.exitant[ch].data() + a, n,
                              static_cast<size_t>(n) * data.exitant_phi);
     }
   }
@@ -118,7 +117,7 @@ void WriteShFile(const std::string& path, const ShBrdfData& data) {
         tensor[static_cast<size_t>(a) * n + b] = static_cast<float>(data.coefficients[ch](a, b));
       }
     }
-    writer.AddTensorChannel(std::string("y.") + kShChannelNames[ch], std::move(tensor));
+    writer.AddTensorChannel(std::string("y.") + kRgbChannelNames[ch], std::move(tensor));
   }
   writer.Write(path, "SH file " + path);
 }
@@ -182,7 +181,7 @@ ShBrdfData ReadShFile(const std::string& path) {
     std::array<std::vector<float>, 3> tensor;
     Imf::FrameBuffer tfb;
     for (int ch = 0; ch < 3; ++ch) {
-      const std::string name = std::string("y.") + kShChannelNames[ch];
+      const std::string name = std::string("y.") + kRgbChannelNames[ch];
       require(h, name);
       tensor[ch].resize(static_cast<size_t>(n) * n);
       char* base = reinterpret_cast<char*>(tensor[ch].data()) -
@@ -212,7 +211,7 @@ ShBrdfData ReadShFile(const std::string& path) {
     for (int a = 0; a < n; ++a) {
       const std::string layer = ShLayerName(data.target, basis.degree(a), basis.azimuthal_order(a));
       for (int ch = 0; ch < 3; ++ch) {
-        const std::string name = layer + "." + kShChannelNames[ch];
+        const std::string name = layer + "." + kRgbChannelNames[ch];
         require(eh, name);
         char* base = reinterpret_cast<char*>(data.exitant[ch].data() + a) -
                      (static_cast<ptrdiff_t>(ew.min.y) * width + ew.min.x) *

@@ -25,7 +25,6 @@ constexpr char kTabulatedModel[] =
     "rotation convention): theta_h = (pi/2) (ih/(nh-1))^2, theta_d = (pi/2) id/(nd-1), phi_d = "
     "(pi/2) ip/(np-1), phi_d folded into [0, pi/2] by reciprocity and bilateral symmetry; "
     "trilinear in (sqrt(theta_h), theta_d, phi_d); pixel (ip, ih*nd + id)";
-constexpr const char* kValue[3] = {"R", "G", "B"};
 constexpr const char* kSigma[3] = {"sigma.R", "sigma.G", "sigma.B"};
 
 struct TabulatedContents {
@@ -74,7 +73,7 @@ TabulatedContents Read(const std::string& path, bool pixels) {
     std::vector<std::vector<float>> planes(has_sigma ? 6 : 3, std::vector<float>(count));
     Imf::FrameBuffer fb;
     for (size_t p = 0; p < planes.size(); ++p) {
-      const char* name = p < 3 ? kValue[p] : kSigma[p - 3];
+      const char* name = p < 3 ? kRgbChannelNames[p] : kSigma[p - 3];
       if (!h.channels().findChannel(name)) throw InputError(what + ": channel " + name + " is missing");
       fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(planes[p].data()),
                                  sizeof(float), sizeof(float) * width));
@@ -119,7 +118,7 @@ void WriteTabulatedFile(const std::string& path, const TabulatedBrdf& brdf,
   }
   Imf::FrameBuffer fb;
   for (size_t p = 0; p < planes.size(); ++p) {
-    const char* name = p < 3 ? kValue[p] : kSigma[p - 3];
+    const char* name = p < 3 ? kRgbChannelNames[p] : kSigma[p - 3];
     header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(planes[p].data()),
                                sizeof(float), sizeof(float) * width));

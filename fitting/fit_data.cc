@@ -15,22 +15,21 @@ std::string ZonalTensor::Problems() const {
     return "zonal data: the zone is not a valid range of theta in [0, 90] deg";
   }
   const int n = size();
-  const char* names[3] = {"R", "G", "B"};
   for (int ch = 0; ch < 3; ++ch) {
     if (z[ch].rows() != n || z[ch].cols() != n || variance[ch].rows() != n ||
         variance[ch].cols() != n) {
-      return std::string("zonal data: channel ") + names[ch] + " tensor is not " +
+      return std::string("zonal data: channel ") + kRgbChannelNames[ch] + " tensor is not " +
              std::to_string(n) + " x " + std::to_string(n) + " for order " + std::to_string(order);
     }
     for (int k = 0; k < n; ++k) {
       for (int j = 0; j < n; ++j) {
         if (!std::isfinite(z[ch](k, j))) {
-          return std::string("zonal data: channel ") + names[ch] + " coefficient (" +
+          return std::string("zonal data: channel ") + kRgbChannelNames[ch] + " coefficient (" +
                  std::to_string(k) + ", " + std::to_string(j) + ") is not finite";
         }
         const double v = variance[ch](k, j);
         if (!(v >= 0) || std::isnan(v)) {
-          return std::string("zonal data: channel ") + names[ch] + " variance (" +
+          return std::string("zonal data: channel ") + kRgbChannelNames[ch] + " variance (" +
                  std::to_string(k) + ", " + std::to_string(j) + ") is negative or NaN";
         }
       }

@@ -19,8 +19,6 @@ double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-constexpr const char* kChannel[3] = {"R", "G", "B"};
-
 // Cosine-weighted measure of each node (for summaries): the node's share of
 // integral integral (.) cos^2(theta_i) dw_i dw_o with dw_i dw_o = 4 cos(theta_d) dw_h dw_d
 // (Rusinkiewicz 1998), theta_h = (pi/2) u^2, trapezoid weights in (u, theta_d, phi_d).
@@ -467,10 +465,10 @@ nlohmann::json PriorFitResult::ToJson() const {
     nlohmann::json list = nlohmann::json::array();
     for (size_t k = 0; k < contributions[c].size() && k < 8; ++k) {
       list.push_back({{"material", contributions[c][k].material},
-                      {"channel", kChannel[contributions[c][k].channel]},
+                      {"channel", kRgbChannelNames[contributions[c][k].channel]},
                       {"share", contributions[c][k].share}});
     }
-    contrib[kChannel[c]] = list;
+    contrib[kRgbChannelNames[c]] = list;
   }
   j["contributions"] = contrib;
   j["statistics"] = {{"chi2", statistics.chi2},

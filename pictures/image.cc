@@ -87,14 +87,13 @@ RgbImage ReadExrImage(const std::string& path, int* negative_pixels) {
     image = RgbImage(window.max.x - window.min.x + 1, window.max.y - window.min.y + 1);
     std::vector<float> channels[3];
     Imf::FrameBuffer fb;
-    const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < 3; ++c) {
       channels[c].assign(image.pixels.size(), 0.0f);
       char* base =
           reinterpret_cast<char*>(channels[c].data()) -
           (static_cast<ptrdiff_t>(window.min.y) * image.width + window.min.x) * sizeof(float);
-      fb.insert(names[c], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * image.width,
-                                     1, 1, 0.0));
+      fb.insert(kRgbChannelNames[c], Imf::Slice(Imf::FLOAT, base, sizeof(float),
+                                                sizeof(float) * image.width, 1, 1, 0.0));
     }
     file.setFrameBuffer(fb);
     file.readPixels(window.min.y, window.max.y);
@@ -117,15 +116,15 @@ void WriteExrImage(const std::string& path, const RgbImage& image) {
     Imf::Header header(image.width, image.height);
     Imf::FrameBuffer fb;
     std::vector<float> channels[3];
-    const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < 3; ++c) {
       channels[c].resize(image.pixels.size());
       for (size_t i = 0; i < image.pixels.size(); ++i) {
         channels[c][i] = static_cast<float>(image.pixels[i][c]);
       }
-      header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
-      fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()),
-                                     sizeof(float), sizeof(float) * image.width));
+      header.channels().insert(kRgbChannelNames[c], Imf::Channel(Imf::FLOAT));
+      fb.insert(kRgbChannelNames[c],
+                Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()), sizeof(float),
+                           sizeof(float) * image.width));
     }
     Imf::OutputFile file(stream, header);
     file.setFrameBuffer(fb);
