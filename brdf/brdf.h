@@ -19,6 +19,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -96,6 +97,10 @@ class Brdf {
   // (for physically valid parameters).
   virtual bool IsEnergyConserving() const = 0;
   virtual bool IsDelta() const { return false; }
+  // The value of f_r when it is the same for every pair of directions above the horizon (an
+  // ideal diffuse reflector), else nullopt. Equal to what Eval returns there. Integrators may
+  // then integrate in closed form (the rig simulator's transport, docs/simulator.md).
+  virtual std::optional<Rgb> ConstantValue() const { return std::nullopt; }
   // f_r(R w_i, R w_o) == f_r(w_i, w_o) for every rotation R about the normal, by construction.
   // Integrators may then work at one azimuth and rotate (acquisition/ground_truth.h).
   virtual bool IsIsotropic() const { return false; }

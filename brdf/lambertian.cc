@@ -27,6 +27,8 @@ double LambertianBrdf::Pdf(const Vec3& w_o, const Vec3& w_i) const {
   return w_o.z > 0 ? CosineHemispherePdf(w_i) : 0.0;
 }
 
+std::optional<Rgb> LambertianBrdf::ConstantValue() const { return albedo_ / M_PI; }
+
 bool LambertianBrdf::IsEnergyConserving() const { return albedo_.Max() <= 1; }
 
 std::string LambertianBrdf::Spec() const { return "lambert:albedo=" + FormatRgb(albedo_); }

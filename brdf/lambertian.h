@@ -23,6 +23,8 @@ class LambertianBrdf final : public Brdf {
   // True when every channel of albedo is <= 1.
   bool IsEnergyConserving() const override;
   bool IsIsotropic() const override { return true; }
+  // albedo / pi.
+  std::optional<Rgb> ConstantValue() const override;
   // "lambert:albedo=A" (A one value or r,g,b).
   std::string Spec() const override;
 

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "basis/atomic_file.h"
@@ -223,7 +224,7 @@ namespace {
 constexpr char kTransportMagic[8] = {'Z', 'B', 'R', 'D', 'F', 'T', 'R', 'N'};
 constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
-constexpr uint32_t kTransportVersion = 2;
+constexpr uint32_t kTransportVersion = 3;
 
 template <typename T>
 std::string_view Bytes(const std::vector<T>& v) {
@@ -342,6 +343,8 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   const int n = rig.simulation.samples_per_pixel;
   const int n_aperture = std::min(n, rig.simulation.aperture_samples);
   const bool delta = material.IsDelta();
+  // An ideal diffuse material is integrated exactly by the control variate alone (below).
+  const std::optional<Rgb> constant = material.ConstantValue();
 
   // Which projector pixel lights the sample point from w_i (-1: none). The direction grid is
   // exact enough inside the lit zone; near its edge, and for a delta material's exact paths,
@@ -404,6 +407,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<double> weight(n);
     std::vector<std::pair<double, double>> angles(n);
     std::vector<std::pair<double, int>> probe_values(kProbes);
+    std::vector<std::pair<Vec3, int64_t>> traced;  // a delta material's last trace per path
     for (int64_t y = y0; y < y1; ++y) {
       std::vector<Entry>& row = rows[y];
       for (int x = 0; x < width; ++x) {
@@ -440,17 +444,32 @@ void ForwardModel::BuildTransport(const Brdf& material) {
         if (landed == 0) continue;
         const double k_pixel = camera_constant_[pixel] * maps_.camera.throughput[pixel];
         entries.clear();
+        bool constant_here = constant.has_value();
+        for (int a = 0; a < landed && constant_here; ++a) constant_here = paths[a].w.z > 0;
         if (delta) {
+          // A path's samples usually reflect along one direction (a mirror's does whatever the
+          // random numbers): its exact trace is reused while the sampled direction repeats.
+          traced.assign(landed, {Vec3{0, 0, -1}, -1});
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
             const BrdfSample bs = material.Sample(path.w, 0.5, lobe_dirs.u[s], lobe_dirs.v[s]);
             if (bs.pdf <= 0 || !bs.is_delta || bs.w_i.z <= 0) continue;
-            const int64_t index = projector_pixel(path.landing_point, bs.w_i, true);
+            auto& [traced_w_i, index] = traced[s % landed];
+            if (!(traced_w_i == bs.w_i)) {
+              traced_w_i = bs.w_i;
+              index = projector_pixel(path.landing_point, bs.w_i, true);
+            }
             if (index < 0) continue;
             const double r =
                 channel < 0 ? bs.delta_reflectance.Luminance() : bs.delta_reflectance[channel];
             entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k_pixel * r / n)});
           }
+        } else if (constant_here) {
+          // f is the same for every w_i (and this pixel's w_o, all above the horizon): the
+          // control variate c = f b_0 is f itself, f - c vanishes at every sample, and the
+          // pixel's value is f times the projector's footprint moment M_0 under any pattern.
+          const double v = channel < 0 ? constant->Luminance() : (*constant)[channel];
+          control_[pixel * kFootprintMoments] = static_cast<float>(k_pixel * v);
         } else {
           // Control variate: least squares of f (the pixel's channel) at the probes, without
           // the brightest quarter (a glossy peak is the lobe samples' job).

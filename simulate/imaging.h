@@ -8,7 +8,8 @@
 // fitted (least squares on probe directions, the brightest quarter left out) by a control
 // variate c(w_i) = sum_k c_k b_k(w_i) in b = (1, z, z^2, x, y), whose integral against any
 // pattern is sum_k c_k M_k with M_k from the projector pixels' footprint moments
-// (RigMaps::projector_moments); a Lambertian is then integrated exactly. The rest,
+// (RigMaps::projector_moments); a Lambertian is then integrated exactly, and a material whose
+// f_r is constant (Brdf::ConstantValue) is that alone: its transport has no entries. The rest,
 // f - c, comes from a fixed set of samples per pixel: cosine-weighted over the directions that
 // reach the projector plus samples of the material's glossy lobe, combined by multiple
 // importance sampling (Veach 1997), each from a scrambled (0,m,2)-net. Nothing depends on the

@@ -81,9 +81,11 @@ TEST_F(TransportCacheTest, EntriesAreKeyedByTheMaterialsValuesAndSeed) {
 
 TEST_F(TransportCacheTest, DamagedEntriesAreRebuiltAndTheFolderIsTrimmed) {
   const auto& shared = testing::SharedFastThesisRig();
-  const auto a = MakeBrdf("lambert:0.5");
+  // Glossy materials: a Lambertian's transport has no entries to damage (simulate/imaging.h).
+  const auto a = MakeBrdf("ggx:alpha=0.3,F0=0.5,kd=0.1");
   const ForwardModel built(shared.optics, shared.maps, *a, Options());
   ASSERT_EQ(Entries(dir_).size(), 1u);
+  ASSERT_GT(built.transport_entries(), 0u);
   const fs::path entry = Entries(dir_)[0];
   const uint64_t size = fs::file_size(entry);
   // Truncated: rebuilt and rewritten whole.
@@ -106,7 +108,7 @@ TEST_F(TransportCacheTest, DamagedEntriesAreRebuiltAndTheFolderIsTrimmed) {
   const ForwardModel repaired(shared.optics, shared.maps, *a, Options());
   EXPECT_TRUE(repaired.from_cache());
   // A cap smaller than one entry: nothing is written, and what was there is trimmed away.
-  const auto b = MakeBrdf("lambert:0.25");
+  const auto b = MakeBrdf("ggx:alpha=0.3,F0=0.5,kd=0.25");
   const ForwardModel tiny_cap(shared.optics, shared.maps, *b, Options(size / 2));
   EXPECT_FALSE(tiny_cap.from_cache());
   EXPECT_EQ(Entries(dir_).size(), 1u);  // b was not written (too large for the cap)
