@@ -42,11 +42,14 @@ void NormalizedLegendreOrder(int max_degree, int m, long double x, long double s
 
 // cos(m delta) for m = 0..order, by the Chebyshev recurrence cos(m d) = 2 cos(d) cos((m-1) d) -
 // cos((m-2) d): the azimuthal factors that multiply the associated Legendre functions.
-inline void CosMultiples(int order, double delta, double* out) {
-  const double c = std::cos(delta);
+// CosMultiplesOfCos takes cos(delta) itself, for callers that keep it.
+inline void CosMultiplesOfCos(int order, double cos_delta, double* out) {
   out[0] = 1.0;
-  if (order >= 1) out[1] = c;
-  for (int m = 2; m <= order; ++m) out[m] = 2.0 * c * out[m - 1] - out[m - 2];
+  if (order >= 1) out[1] = cos_delta;
+  for (int m = 2; m <= order; ++m) out[m] = 2.0 * cos_delta * out[m - 1] - out[m - 2];
+}
+inline void CosMultiples(int order, double delta, double* out) {
+  CosMultiplesOfCos(order, std::cos(delta), out);
 }
 
 }  // namespace zbrdf

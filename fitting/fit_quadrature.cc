@@ -119,6 +119,8 @@ PairQuadrature::PairQuadrature(const Zone& zone, int order, const PairQuadrature
             node.delta = a + half * (1.0 + gauss.nodes[q]);
             node.weight = 2.0 * half * gauss.weights[q];
             HalfVectorAt(g, node.delta, &node.theta_h, nullptr, &node.k_dot_h);
+            node.cos_delta = std::cos(node.delta);
+            node.sin_delta = std::sin(node.delta);
             out.nodes.push_back(node);
             ++count;
           }
@@ -149,7 +151,7 @@ PairQuadrature::PairQuadrature(const Zone& zone, int order, const PairQuadrature
 void PairQuadrature::Directions(int pair, const Node& node, Vec3* w_i, Vec3* w_r) const {
   const int ti = pair / n_, tr = pair % n_;
   *w_r = {rule_.s_x[tr], 0.0, rule_.x[tr]};
-  *w_i = {rule_.s_x[ti] * std::cos(node.delta), rule_.s_x[ti] * std::sin(node.delta), rule_.x[ti]};
+  *w_i = {rule_.s_x[ti] * node.cos_delta, rule_.s_x[ti] * node.sin_delta, rule_.x[ti]};
 }
 
 namespace {
@@ -186,7 +188,7 @@ Eigen::VectorXd PairQuadrature::ProjectIsotropic(std::span<const double> g) cons
       std::fill(sum.begin(), sum.end(), 0.0);
       for (int s = pair_segments_[p]; s < pair_segments_[p + 1]; ++s) {
         for (int64_t i = segments_[s].begin; i < segments_[s].end; ++i) {
-          CosMultiples(order_, nodes_[i].delta, cm.data());
+          CosMultiplesOfCos(order_, nodes_[i].cos_delta, cm.data());
           const double w = nodes_[i].weight * g[i];
           for (int m = 0; m <= order_; ++m) sum[m] += w * cm[m];
         }
@@ -195,6 +197,35 @@ Eigen::VectorXd PairQuadrature::ProjectIsotropic(std::span<const double> g) cons
     }
   });
   return ContractIsotropic(*this, h);
+}
+
+std::array<Eigen::VectorXd, 3> PairQuadrature::ProjectIsotropic3(
+    const std::array<std::vector<double>, 3>& g) const {
+  for (const auto& v : g) {
+    ZBRDF_ASSERT(static_cast<int64_t>(v.size()) == size(), "one value per quadrature node expected");
+  }
+  std::array<std::vector<Eigen::MatrixXd>, 3> h;
+  for (auto& hc : h) hc.assign(order_ + 1, Eigen::MatrixXd::Zero(n_, n_));
+  ParallelFor(static_cast<int64_t>(n_) * n_, 64, [&](int64_t p0, int64_t p1) {
+    std::vector<double> cm(order_ + 1), sum(3 * (order_ + 1));
+    for (int64_t p = p0; p < p1; ++p) {
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (int s = pair_segments_[p]; s < pair_segments_[p + 1]; ++s) {
+        for (int64_t i = segments_[s].begin; i < segments_[s].end; ++i) {
+          CosMultiplesOfCos(order_, nodes_[i].cos_delta, cm.data());
+          for (int c = 0; c < 3; ++c) {  // each channel summed as ProjectIsotropic sums it
+            const double w = nodes_[i].weight * g[c][i];
+            double* sum_c = &sum[c * (order_ + 1)];
+            for (int m = 0; m <= order_; ++m) sum_c[m] += w * cm[m];
+          }
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        for (int m = 0; m <= order_; ++m) h[c][m](p / n_, p % n_) = sum[c * (order_ + 1) + m];
+      }
+    }
+  });
+  return {ContractIsotropic(*this, h[0]), ContractIsotropic(*this, h[1]), ContractIsotropic(*this, h[2])};
 }
 
 std::array<Eigen::VectorXd, 3> PairQuadrature::ProjectIsotropicBrdf(const Brdf& brdf) const {
@@ -222,7 +253,7 @@ std::array<Eigen::VectorXd, 3> PairQuadrature::ProjectIsotropicBrdf(const Brdf& 
       }
     }
   });
-  return {ProjectIsotropic(g[0]), ProjectIsotropic(g[1]), ProjectIsotropic(g[2])};
+  return ProjectIsotropic3(g);
 }
 
 namespace {
@@ -261,7 +292,7 @@ DBrdfProjection ProjectIsotropicTable(const PairQuadrature& q, int theta_samples
             const PairQuadrature::Node& node = q.nodes()[i];
             const double t = std::clamp(node.theta_h / table_step - cell, 0.0, 1.0);
             const DBrdfTerms terms = TermsAt(ci, cr, node.k_dot_h);
-            CosMultiples(order, node.delta, cm.data());
+            CosMultiplesOfCos(order, node.cos_delta, cm.data());
             const double v[4] = {(1 - t) * terms.normal, t * terms.normal, (1 - t) * terms.grazing,
                                  t * terms.grazing};
             for (int e = 0; e < 4; ++e) {

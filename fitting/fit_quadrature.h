@@ -36,6 +36,7 @@
 // (gamma is odd under Delta -> -Delta, g even). Only |n| <= 2L contributes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -72,6 +73,7 @@ class PairQuadrature {
     double weight;   // Delta weight, doubled for the mirror half
     double theta_h;  // half-vector polar angle
     double k_dot_h;  // w_i . h = |w_i + w_r| / 2
+    double cos_delta, sin_delta;  // of delta, kept: every projection needs them
   };
   // A run of nodes of one (theta_i, theta_r) pair within one theta_h cell.
   struct Segment {
@@ -103,6 +105,8 @@ class PairQuadrature {
 
   // Isotropic coefficients (IsotropicLayout) of an isotropic g given at every node (size()).
   Eigen::VectorXd ProjectIsotropic(std::span<const double> g) const;
+  // The same for three functions at once (the channels of a BRDF): one pass over the nodes.
+  std::array<Eigen::VectorXd, 3> ProjectIsotropic3(const std::array<std::vector<double>, 3>& g) const;
   // g = f_r cos(theta_i) of a BRDF (one channel per output), evaluated at the nodes in parallel.
   std::array<Eigen::VectorXd, 3> ProjectIsotropicBrdf(const Brdf& brdf) const;
 

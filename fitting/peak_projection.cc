@@ -141,7 +141,7 @@ Eigen::MatrixXd PeakProjector::Matrix(const Stencil& stencil, int columns) const
             pair_->Directions(p, node, &w_i, &w_r);
             const int k = stencil(w_i, w_r, cols.data(), wts.data());
             if (k == 0) continue;
-            CosMultiples(L, node.delta, cm.data());
+            CosMultiplesOfCos(L, node.cos_delta, cm.data());
             const double base = node.weight * w_i.z * keep;
             for (int e = 0; e < k; ++e) {
               double* a = acc.At(cols[e]);
@@ -242,7 +242,7 @@ std::array<Eigen::VectorXd, 3> PeakProjector::ProjectBrdf(const Brdf& brdf) cons
         f.resize(wi.size());
         brdf.EvalBatch(wi, wr, f);
         for (size_t k = 0; k < nodes.size(); ++k) {
-          CosMultiples(L, nodes[k]->delta, cm.data());
+          CosMultiplesOfCos(L, nodes[k]->cos_delta, cm.data());
           const double base = nodes[k]->weight * wi[k].z * (1.0 - Window(nodes[k]->theta_h));
           for (int m = 0; m <= L; ++m) {
             for (int c = 0; c < 3; ++c) hm[m][c] += base * cm[m] * f[k][c];
