@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <span>
+#include <vector>
 
 #include <ceres/ceres.h>
 
@@ -35,9 +37,11 @@ double ShapeOf(AnalyticModel m, double u) {
 // d shape / d u.
 double ShapeDerivative(double u) { return std::exp(u); }
 
-// f_r cos(theta_i), channel 0, of a BRDF at every quadrature node, projected.
-Eigen::VectorXd ProjectChannel0(const PairQuadrature& q, const Brdf& brdf) {
-  std::vector<double> g(q.size());
+// f_r cos(theta_i) of a BRDF at every quadrature node, channels 0 .. count - 1, projected. Two
+// models that differ only in a per-channel parameter (F0 = 0 and F0 = 1) are one evaluation:
+// the parameter's values go in separate channels, and each channel is what its model gives.
+std::vector<Eigen::VectorXd> ProjectChannels(const PairQuadrature& q, const Brdf& brdf, int count) {
+  std::vector<std::vector<double>> g(count, std::vector<double>(q.size()));
   const int n = q.theta_nodes();
   ParallelFor(static_cast<int64_t>(n) * n, 32, [&](int64_t p0, int64_t p1) {
     for (int64_t p = p0; p < p1; ++p) {
@@ -46,12 +50,17 @@ Eigen::VectorXd ProjectChannel0(const PairQuadrature& q, const Brdf& brdf) {
         for (int64_t i = seg.begin; i < seg.end; ++i) {
           Vec3 wi, wr;
           q.Directions(static_cast<int>(p), q.nodes()[i], &wi, &wr);
-          g[i] = brdf.Eval(wi, wr).r * wi.z;
+          const Rgb f = brdf.Eval(wi, wr);
+          for (int c = 0; c < count; ++c) g[c][i] = f[c] * wi.z;
         }
       }
     }
   });
-  return q.ProjectIsotropic(g);
+  std::vector<std::span<const double>> spans(g.begin(), g.end());
+  return q.ProjectIsotropicAll(spans);
+}
+Eigen::VectorXd ProjectChannel0(const PairQuadrature& q, const Brdf& brdf) {
+  return std::move(ProjectChannels(q, brdf, 1)[0]);
 }
 
 struct Columns {
@@ -63,8 +72,10 @@ Columns ModelColumns(const PairQuadrature& q, AnalyticModel m, double x) {
   Columns c;
   switch (m) {
     case AnalyticModel::kGgx: {
-      c.offset = ProjectChannel0(q, GgxBrdf(x, x, Rgb(0.0), Rgb(0.0)));
-      c.specular = ProjectChannel0(q, GgxBrdf(x, x, Rgb(1.0), Rgb(0.0))) - c.offset;
+      // F0 = 0 (channel 0) and F0 = 1 (channel 1) in one evaluation.
+      std::vector<Eigen::VectorXd> z = ProjectChannels(q, GgxBrdf(x, x, Rgb(0.0, 1.0, 0.0), Rgb(0.0)), 2);
+      c.offset = std::move(z[0]);
+      c.specular = z[1] - c.offset;
       break;
     }
     case AnalyticModel::kWard: {
@@ -73,8 +84,11 @@ Columns ModelColumns(const PairQuadrature& q, AnalyticModel m, double x) {
       break;
     }
     case AnalyticModel::kAshikhminShirley: {
-      c.offset = ProjectChannel0(q, AshikhminShirleyBrdf(Rgb(0.0), Rgb(0.0), x, x));
-      c.specular = ProjectChannel0(q, AshikhminShirleyBrdf(Rgb(0.0), Rgb(1.0), x, x)) - c.offset;
+      // Rs = 0 (channel 0) and Rs = 1 (channel 1) in one evaluation.
+      std::vector<Eigen::VectorXd> z =
+          ProjectChannels(q, AshikhminShirleyBrdf(Rgb(0.0), Rgb(0.0, 1.0, 0.0), x, x), 2);
+      c.offset = std::move(z[0]);
+      c.specular = z[1] - c.offset;
       break;
     }
   }
@@ -85,8 +99,10 @@ Eigen::VectorXd DiffuseColumn(const PairQuadrature& q, AnalyticModel m) {
   if (m == AnalyticModel::kAshikhminShirley) {
     // Rd (1 - Rs) times the angular factor: the AS model with Rd = 1, Rs = 0 minus its specular
     // part (F = W) at any n.
-    return ProjectChannel0(q, AshikhminShirleyBrdf(Rgb(1.0), Rgb(0.0), 10.0, 10.0)) -
-           ProjectChannel0(q, AshikhminShirleyBrdf(Rgb(0.0), Rgb(0.0), 10.0, 10.0));
+    // Rd = 1 (channel 0) and Rd = 0 (channel 1) in one evaluation.
+    const std::vector<Eigen::VectorXd> z =
+        ProjectChannels(q, AshikhminShirleyBrdf(Rgb(1.0, 0.0, 0.0), Rgb(0.0), 10.0, 10.0), 2);
+    return z[0] - z[1];
   }
   return ProjectChannel0(q, LambertianBrdf(Rgb(1.0)));
 }

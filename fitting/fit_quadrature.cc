@@ -199,33 +199,37 @@ Eigen::VectorXd PairQuadrature::ProjectIsotropic(std::span<const double> g) cons
   return ContractIsotropic(*this, h);
 }
 
-std::array<Eigen::VectorXd, 3> PairQuadrature::ProjectIsotropic3(
-    const std::array<std::vector<double>, 3>& g) const {
+std::vector<Eigen::VectorXd> PairQuadrature::ProjectIsotropicAll(
+    std::span<const std::span<const double>> g) const {
   for (const auto& v : g) {
     ZBRDF_ASSERT(static_cast<int64_t>(v.size()) == size(), "one value per quadrature node expected");
   }
-  std::array<std::vector<Eigen::MatrixXd>, 3> h;
-  for (auto& hc : h) hc.assign(order_ + 1, Eigen::MatrixXd::Zero(n_, n_));
+  const size_t count = g.size();
+  const int width = order_ + 1;
+  std::vector<std::vector<Eigen::MatrixXd>> h(count);
+  for (auto& hc : h) hc.assign(width, Eigen::MatrixXd::Zero(n_, n_));
   ParallelFor(static_cast<int64_t>(n_) * n_, 64, [&](int64_t p0, int64_t p1) {
-    std::vector<double> cm(order_ + 1), sum(3 * (order_ + 1));
+    std::vector<double> cm(width), sum(count * width);
     for (int64_t p = p0; p < p1; ++p) {
       std::fill(sum.begin(), sum.end(), 0.0);
       for (int s = pair_segments_[p]; s < pair_segments_[p + 1]; ++s) {
         for (int64_t i = segments_[s].begin; i < segments_[s].end; ++i) {
           CosMultiplesOfCos(order_, nodes_[i].cos_delta, cm.data());
-          for (int c = 0; c < 3; ++c) {  // each channel summed as ProjectIsotropic sums it
+          for (size_t c = 0; c < count; ++c) {  // each function summed as ProjectIsotropic sums it
             const double w = nodes_[i].weight * g[c][i];
-            double* sum_c = &sum[c * (order_ + 1)];
-            for (int m = 0; m <= order_; ++m) sum_c[m] += w * cm[m];
+            double* sum_c = &sum[c * width];
+            for (int m = 0; m < width; ++m) sum_c[m] += w * cm[m];
           }
         }
       }
-      for (int c = 0; c < 3; ++c) {
-        for (int m = 0; m <= order_; ++m) h[c][m](p / n_, p % n_) = sum[c * (order_ + 1) + m];
+      for (size_t c = 0; c < count; ++c) {
+        for (int m = 0; m < width; ++m) h[c][m](p / n_, p % n_) = sum[c * width + m];
       }
     }
   });
-  return {ContractIsotropic(*this, h[0]), ContractIsotropic(*this, h[1]), ContractIsotropic(*this, h[2])};
+  std::vector<Eigen::VectorXd> out;
+  for (const auto& hc : h) out.push_back(ContractIsotropic(*this, hc));
+  return out;
 }
 
 std::array<Eigen::VectorXd, 3> PairQuadrature::ProjectIsotropicBrdf(const Brdf& brdf) const {
@@ -253,7 +257,9 @@ std::array<Eigen::VectorXd, 3> PairQuadrature::ProjectIsotropicBrdf(const Brdf& 
       }
     }
   });
-  return ProjectIsotropic3(g);
+  const std::span<const double> channels[3] = {g[0], g[1], g[2]};
+  std::vector<Eigen::VectorXd> z = ProjectIsotropicAll(channels);
+  return {std::move(z[0]), std::move(z[1]), std::move(z[2])};
 }
 
 namespace {

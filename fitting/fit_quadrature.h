@@ -105,8 +105,9 @@ class PairQuadrature {
 
   // Isotropic coefficients (IsotropicLayout) of an isotropic g given at every node (size()).
   Eigen::VectorXd ProjectIsotropic(std::span<const double> g) const;
-  // The same for three functions at once (the channels of a BRDF): one pass over the nodes.
-  std::array<Eigen::VectorXd, 3> ProjectIsotropic3(const std::array<std::vector<double>, 3>& g) const;
+  // The same for several functions at once (the channels of a BRDF): one pass over the nodes,
+  // each function's coefficients equal to what ProjectIsotropic gives it.
+  std::vector<Eigen::VectorXd> ProjectIsotropicAll(std::span<const std::span<const double>> g) const;
   // g = f_r cos(theta_i) of a BRDF (one channel per output), evaluated at the nodes in parallel.
   std::array<Eigen::VectorXd, 3> ProjectIsotropicBrdf(const Brdf& brdf) const;
 

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <span>
+#include <vector>
+
 #include "basis/error.h"
 #include "basis/projection.h"
 #include "brdf/dbrdf.h"
@@ -99,6 +102,35 @@ TEST(PairQuadratureTest, GgxProjectionMatchesBruteForce) {
       EXPECT_LT(RelativeError(IsotropicLayout(order).Expand(iso[ch]), reference[ch]), 1e-5)
           << "cells " << cells << " channel " << ch;
     }
+  }
+}
+
+TEST(PairQuadratureTest, ProjectingSeveralFunctionsAtOnceGivesEachWhatItGetsAlone) {
+  // One pass over the nodes for several functions (the channels of a BRDF, the analytic fits'
+  // F0 = 0 and F0 = 1 models) sums each as ProjectIsotropic does: equal bit for bit.
+  const int order = 5;
+  const PairQuadrature q(kZone, order);
+  const GgxBrdf ggx(0.3, 0.3, Rgb(0.0, 1.0, 0.5), Rgb(0.1, 0.0, 0.2));
+  std::vector<std::vector<double>> g(3, std::vector<double>(q.size()));
+  for (int p = 0; p < q.theta_nodes() * q.theta_nodes(); ++p) {
+    for (int s = q.PairSegmentBegin(p); s < q.PairSegmentBegin(p + 1); ++s) {
+      for (int64_t i = q.segments()[s].begin; i < q.segments()[s].end; ++i) {
+        Vec3 w_i, w_r;
+        q.Directions(p, q.nodes()[i], &w_i, &w_r);
+        const Rgb f = ggx.Eval(w_i, w_r);
+        for (int ch = 0; ch < 3; ++ch) g[ch][i] = f[ch] * w_i.z;
+      }
+    }
+  }
+  const std::vector<std::span<const double>> spans(g.begin(), g.end());
+  const std::vector<Eigen::VectorXd> together = q.ProjectIsotropicAll(spans);
+  const auto brdf = q.ProjectIsotropicBrdf(ggx);
+  ASSERT_EQ(together.size(), 3u);
+  for (int ch = 0; ch < 3; ++ch) {
+    const Eigen::VectorXd alone = q.ProjectIsotropic(g[ch]);
+    EXPECT_EQ(together[ch], alone) << "channel " << ch;
+    EXPECT_EQ(brdf[ch], alone) << "channel " << ch;
+    EXPECT_GT(alone.norm(), 0) << "channel " << ch;
   }
 }
 
