@@ -55,6 +55,12 @@ std::vector<std::string> ClosestNames(const std::string& name,
   const size_t threshold = std::max<size_t>(2, name.size() / 3);
   std::vector<std::pair<size_t, size_t>> close;  // distance, index in candidates
   for (size_t k = 0; k < candidates.size(); ++k) {
+    // Every edit changes the length by at most one: a length difference beyond the threshold
+    // rules a candidate out without the O(n m) distance (a long mistyped name against a list).
+    const size_t length_difference = name.size() > candidates[k].size()
+                                         ? name.size() - candidates[k].size()
+                                         : candidates[k].size() - name.size();
+    if (length_difference > threshold) continue;
     const size_t distance = EditDistance(name, candidates[k]);
     if (distance <= threshold) close.emplace_back(distance, k);
   }

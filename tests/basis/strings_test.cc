@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <deque>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace zbrdf {
@@ -89,6 +91,25 @@ TEST(ClosestNames, ClosestFirstWithinAThirdOfTheLengthOrTwo) {
   EXPECT_EQ(ClosestNames("fat", {"fat-x", "fit", "cat"}),
             std::vector<std::string>({"fit", "cat", "fat-x"}));
   EXPECT_EQ(ClosestNames("fat", {"fit", "cat", "fat-x"}, 1), std::vector<std::string>({"fit"}));
+}
+
+TEST(ClosestNames, SkippingCandidatesByLengthChangesNothing) {
+  // A candidate whose length differs from the name's by more than the threshold is skipped
+  // without computing its distance (an edit changes the length by at most one): the list must be
+  // what filtering every candidate by its EditDistance gives, for names of every length 0-7.
+  const std::vector<std::string> strings = AllStrings("ab", 7);  // 255 strings
+  for (const std::string& name : strings) {
+    const size_t threshold = std::max<size_t>(2, name.size() / 3);
+    std::vector<std::pair<size_t, size_t>> close;
+    for (size_t k = 0; k < strings.size(); ++k) {
+      const size_t distance = EditDistance(name, strings[k]);
+      if (distance <= threshold) close.emplace_back(distance, k);
+    }
+    std::stable_sort(close.begin(), close.end());
+    std::vector<std::string> expected;
+    for (const auto& [distance, k] : close) expected.push_back(strings[k]);
+    ASSERT_EQ(ClosestNames(name, strings, strings.size()), expected) << "'" << name << "'";
+  }
 }
 
 }  // namespace ZBRDF_TEST_FILE_ID
