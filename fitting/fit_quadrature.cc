@@ -180,23 +180,8 @@ Eigen::VectorXd ContractIsotropic(const PairQuadrature& q, const std::vector<Eig
 }  // namespace
 
 Eigen::VectorXd PairQuadrature::ProjectIsotropic(std::span<const double> g) const {
-  ZBRDF_ASSERT(static_cast<int64_t>(g.size()) == size(), "one value per quadrature node expected");
-  std::vector<Eigen::MatrixXd> h(order_ + 1, Eigen::MatrixXd::Zero(n_, n_));
-  ParallelFor(static_cast<int64_t>(n_) * n_, 64, [&](int64_t p0, int64_t p1) {
-    std::vector<double> cm(order_ + 1), sum(order_ + 1);
-    for (int64_t p = p0; p < p1; ++p) {
-      std::fill(sum.begin(), sum.end(), 0.0);
-      for (int s = pair_segments_[p]; s < pair_segments_[p + 1]; ++s) {
-        for (int64_t i = segments_[s].begin; i < segments_[s].end; ++i) {
-          CosMultiplesOfCos(order_, nodes_[i].cos_delta, cm.data());
-          const double w = nodes_[i].weight * g[i];
-          for (int m = 0; m <= order_; ++m) sum[m] += w * cm[m];
-        }
-      }
-      for (int m = 0; m <= order_; ++m) h[m](p / n_, p % n_) = sum[m];
-    }
-  });
-  return ContractIsotropic(*this, h);
+  const std::span<const double> one[1] = {g};
+  return std::move(ProjectIsotropicAll(one)[0]);
 }
 
 std::vector<Eigen::VectorXd> PairQuadrature::ProjectIsotropicAll(
