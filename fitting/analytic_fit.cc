@@ -73,7 +73,8 @@ Columns ModelColumns(const PairQuadrature& q, AnalyticModel m, double x) {
   switch (m) {
     case AnalyticModel::kGgx: {
       // F0 = 0 (channel 0) and F0 = 1 (channel 1) in one evaluation.
-      std::vector<Eigen::VectorXd> z = ProjectChannels(q, GgxBrdf(x, x, Rgb(0.0, 1.0, 0.0), Rgb(0.0)), 2);
+      std::vector<Eigen::VectorXd> z =
+          ProjectChannels(q, GgxBrdf(x, x, Rgb(0.0, 1.0, 0.0), Rgb(0.0)), 2);
       c.offset = std::move(z[0]);
       c.specular = z[1] - c.offset;
       break;

@@ -187,7 +187,8 @@ Eigen::VectorXd PairQuadrature::ProjectIsotropic(std::span<const double> g) cons
 std::vector<Eigen::VectorXd> PairQuadrature::ProjectIsotropicAll(
     std::span<const std::span<const double>> g) const {
   for (const auto& v : g) {
-    ZBRDF_ASSERT(static_cast<int64_t>(v.size()) == size(), "one value per quadrature node expected");
+    ZBRDF_ASSERT(static_cast<int64_t>(v.size()) == size(),
+                 "one value per quadrature node expected");
   }
   const size_t count = g.size();
   const int width = order_ + 1;

@@ -106,7 +106,8 @@ TEST(ImagingTest, ALambertianIsIntegratedByItsControlVariateAloneAsTheSamplesWou
   const ForwardModel sampled(shared.optics, shared.maps, sampled_material, options);
   EXPECT_EQ(exact.transport_entries(), 0u);
   EXPECT_GT(sampled.transport_entries(), 100000u);
-  for (const Pattern& pattern : {Uniform(shared.rig, 255), BasisLike(shared.rig, shared.maps.projector)}) {
+  for (const Pattern& pattern :
+       {Uniform(shared.rig, 255), BasisLike(shared.rig, shared.maps.projector)}) {
     const std::vector<float> a = exact.ElectronRate(pattern), b = sampled.ElectronRate(pattern);
     ASSERT_EQ(a.size(), b.size());
     const double peak = *std::max_element(b.begin(), b.end());
