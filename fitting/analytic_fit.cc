@@ -1,11 +1,11 @@
 #include "fitting/analytic_fit.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <span>
 #include <vector>
 
 #include <ceres/ceres.h>
@@ -37,30 +37,12 @@ double ShapeOf(AnalyticModel m, double u) {
 // d shape / d u.
 double ShapeDerivative(double u) { return std::exp(u); }
 
-// f_r cos(theta_i) of a BRDF at every quadrature node, channels 0 .. count - 1, projected. Two
-// models that differ only in a per-channel parameter (F0 = 0 and F0 = 1) are one evaluation:
-// the parameter's values go in separate channels, and each channel is what its model gives.
-std::vector<Eigen::VectorXd> ProjectChannels(const PairQuadrature& q, const Brdf& brdf, int count) {
-  std::vector<std::vector<double>> g(count, std::vector<double>(q.size()));
-  const int n = q.theta_nodes();
-  ParallelFor(static_cast<int64_t>(n) * n, 32, [&](int64_t p0, int64_t p1) {
-    for (int64_t p = p0; p < p1; ++p) {
-      for (int s = q.PairSegmentBegin(static_cast<int>(p)); s < q.PairSegmentBegin(static_cast<int>(p) + 1); ++s) {
-        const PairQuadrature::Segment& seg = q.segments()[s];
-        for (int64_t i = seg.begin; i < seg.end; ++i) {
-          Vec3 wi, wr;
-          q.Directions(static_cast<int>(p), q.nodes()[i], &wi, &wr);
-          const Rgb f = brdf.Eval(wi, wr);
-          for (int c = 0; c < count; ++c) g[c][i] = f[c] * wi.z;
-        }
-      }
-    }
-  });
-  std::vector<std::span<const double>> spans(g.begin(), g.end());
-  return q.ProjectIsotropicAll(spans);
-}
+// The projections of f_r cos(theta_i) below use PairQuadrature::ProjectIsotropicBrdf, which
+// projects every channel of a model in one evaluation. Two models that differ only in a
+// per-channel parameter (F0 = 0 and F0 = 1) are one evaluation: the parameter's values go in
+// separate channels, and each channel is what its model gives.
 Eigen::VectorXd ProjectChannel0(const PairQuadrature& q, const Brdf& brdf) {
-  return std::move(ProjectChannels(q, brdf, 1)[0]);
+  return std::move(q.ProjectIsotropicBrdf(brdf)[0]);
 }
 
 struct Columns {
@@ -73,8 +55,8 @@ Columns ModelColumns(const PairQuadrature& q, AnalyticModel m, double x) {
   switch (m) {
     case AnalyticModel::kGgx: {
       // F0 = 0 (channel 0) and F0 = 1 (channel 1) in one evaluation.
-      std::vector<Eigen::VectorXd> z =
-          ProjectChannels(q, GgxBrdf(x, x, Rgb(0.0, 1.0, 0.0), Rgb(0.0)), 2);
+      std::array<Eigen::VectorXd, 3> z =
+          q.ProjectIsotropicBrdf(GgxBrdf(x, x, Rgb(0.0, 1.0, 0.0), Rgb(0.0)));
       c.offset = std::move(z[0]);
       c.specular = z[1] - c.offset;
       break;
@@ -86,8 +68,8 @@ Columns ModelColumns(const PairQuadrature& q, AnalyticModel m, double x) {
     }
     case AnalyticModel::kAshikhminShirley: {
       // Rs = 0 (channel 0) and Rs = 1 (channel 1) in one evaluation.
-      std::vector<Eigen::VectorXd> z =
-          ProjectChannels(q, AshikhminShirleyBrdf(Rgb(0.0), Rgb(0.0, 1.0, 0.0), x, x), 2);
+      std::array<Eigen::VectorXd, 3> z =
+          q.ProjectIsotropicBrdf(AshikhminShirleyBrdf(Rgb(0.0), Rgb(0.0, 1.0, 0.0), x, x));
       c.offset = std::move(z[0]);
       c.specular = z[1] - c.offset;
       break;
@@ -101,8 +83,8 @@ Eigen::VectorXd DiffuseColumn(const PairQuadrature& q, AnalyticModel m) {
     // Rd (1 - Rs) times the angular factor: the AS model with Rd = 1, Rs = 0 minus its specular
     // part (F = W) at any n.
     // Rd = 1 (channel 0) and Rd = 0 (channel 1) in one evaluation.
-    const std::vector<Eigen::VectorXd> z =
-        ProjectChannels(q, AshikhminShirleyBrdf(Rgb(1.0, 0.0, 0.0), Rgb(0.0), 10.0, 10.0), 2);
+    const std::array<Eigen::VectorXd, 3> z =
+        q.ProjectIsotropicBrdf(AshikhminShirleyBrdf(Rgb(1.0, 0.0, 0.0), Rgb(0.0), 10.0, 10.0));
     return z[0] - z[1];
   }
   return ProjectChannel0(q, LambertianBrdf(Rgb(1.0)));
