@@ -49,13 +49,29 @@ Distribution1D::Distribution1D(std::span<const double> weights)
   size_t last = weights_.size();
   while (weights_[last - 1] == 0) --last;
   for (size_t i = 1; i <= weights_.size(); ++i) cdf_[i] = i >= last ? 1.0 : cdf_[i] / sum_;
+  guide_.resize(weights_.size());
+  for (size_t g = 0; g < guide_.size(); ++g) {
+    guide_[g] = FindCellBySearch(static_cast<double>(g) / static_cast<double>(guide_.size()));
+  }
 }
 
-int Distribution1D::FindCell(double u) const {
+int Distribution1D::FindCellBySearch(double u) const {
   // First cdf entry > u, minus one: cdf_[cell] <= u < cdf_[cell + 1], so the cell has a
   // positive weight.
   const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
   return std::clamp(static_cast<int>(it - cdf_.begin()) - 1, 0, size() - 1);
+}
+
+int Distribution1D::FindCell(double u) const {
+  // FindCellBySearch(u), walked from the cell of u's guide entry: the walks over all guide
+  // entries add up to size() + guide_.size() steps, so about two per call, where the binary
+  // search's branches are unpredictable (the proxy sampler calls this for every sample).
+  if (!(u >= 0 && u < 1)) return FindCellBySearch(u);  // NaN too
+  const int n = size();
+  int cell = guide_[std::min(static_cast<int>(u * n), n - 1)];
+  while (cell > 0 && cdf_[cell] > u) --cell;  // u * n may round up into the next guide entry
+  while (cell + 1 < n && cdf_[cell + 1] <= u) ++cell;
+  return cell;
 }
 
 double Distribution1D::Sample(double u, double* pdf, int* cell) const {

@@ -43,9 +43,11 @@ class Distribution1D {
 
  private:
   int FindCell(double u) const;
+  int FindCellBySearch(double u) const;
 
   std::vector<double> weights_;
   std::vector<double> cdf_;  // size n + 1; cdf_[0] = 0, cdf_[n] = 1
+  std::vector<int> guide_;   // size n; guide_[g] = FindCellBySearch(g / n)
   double sum_ = 0;
 };
 

@@ -21,7 +21,7 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint32_t kMapsCacheVersion = 8;
+constexpr uint32_t kMapsCacheVersion = 9;  // 9: the grid's coordinates interleaved
 
 // chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
 // the direction it lights the sample center from), else the mean of its landed rays (the
@@ -117,8 +117,7 @@ ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
   grid.step_rad = 2 * M_PI / grid.n_phi;  // exact period in phi
   grid.n_theta = static_cast<int>(std::ceil((M_PI / 2) / grid.step_rad)) + 1;
   const size_t n = static_cast<size_t>(grid.n_theta) * grid.n_phi;
-  grid.px.assign(n, std::numeric_limits<float>::quiet_NaN());
-  grid.py.assign(n, std::numeric_limits<float>::quiet_NaN());
+  grid.xy.assign(2 * n, std::numeric_limits<float>::quiet_NaN());
   const ThinLens& projector = optics.projector();
   const int width = projector.params().width, height = projector.params().height;
   std::atomic<long> done{0};
@@ -133,8 +132,8 @@ ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
         if (!proj.in_front || !proj.in_aperture) continue;
         if (proj.px < 0 || proj.py < 0 || proj.px >= width || proj.py >= height) continue;
         const size_t k = static_cast<size_t>(i) * grid.n_phi + j;
-        grid.px[k] = static_cast<float>(proj.px);
-        grid.py[k] = static_cast<float>(proj.py);
+        grid.xy[2 * k] = static_cast<float>(proj.px);
+        grid.xy[2 * k + 1] = static_cast<float>(proj.py);
       }
       Report(progress, {"grid", ++done, grid.n_theta, "rows"});
     }
@@ -255,15 +254,17 @@ bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_o
   const int i = static_cast<int>(fi), j = static_cast<int>(fj);
   if (i + 1 >= n_theta) return false;
   const double a = fi - i, b = fj - j;
-  const int j0 = j % n_phi, j1 = (j + 1) % n_phi;
-  const size_t k00 = static_cast<size_t>(i) * n_phi + j0, k01 = static_cast<size_t>(i) * n_phi + j1;
-  const size_t k10 = k00 + n_phi, k11 = k01 + n_phi;
-  const float c[4] = {px[k00], px[k01], px[k10], px[k11]};
-  for (float v : c) {
-    if (std::isnan(v)) return false;
+  // phi is in [0, 2 pi): j is at most n_phi (rounding), no division needed for the wrap.
+  const int j0 = j >= n_phi ? j - n_phi : j, j1 = j0 + 1 == n_phi ? 0 : j0 + 1;
+  const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
+  const float* n01 = &xy[2 * (static_cast<size_t>(i) * n_phi + j1)];
+  const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
+  const float* n11 = n01 + 2 * static_cast<size_t>(n_phi);
+  if (std::isnan(n00[0]) || std::isnan(n01[0]) || std::isnan(n10[0]) || std::isnan(n11[0])) {
+    return false;
   }
-  *px_out = (1 - a) * ((1 - b) * px[k00] + b * px[k01]) + a * ((1 - b) * px[k10] + b * px[k11]);
-  *py_out = (1 - a) * ((1 - b) * py[k00] + b * py[k01]) + a * ((1 - b) * py[k10] + b * py[k11]);
+  *px_out = (1 - a) * ((1 - b) * n00[0] + b * n01[0]) + a * ((1 - b) * n10[0] + b * n11[0]);
+  *py_out = (1 - a) * ((1 - b) * n00[1] + b * n01[1]) + a * ((1 - b) * n10[1] + b * n11[1]);
   return true;
 }
 
@@ -313,8 +314,7 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
         maps.grid.n_theta = grid_dims[0];
         maps.grid.n_phi = grid_dims[1];
         const uint64_t n = static_cast<uint64_t>(grid_dims[0]) * grid_dims[1];
-        if (ReadVector(in, &maps.grid.px, n) && maps.grid.px.size() == n &&
-            ReadVector(in, &maps.grid.py, n) && maps.grid.py.size() == n &&
+        if (ReadVector(in, &maps.grid.xy, 2 * n) && maps.grid.xy.size() == 2 * n &&
             ReadVector(in, &maps.projector_moments,
                        static_cast<uint64_t>(maps.projector.size()) * kFootprintMoments) &&
             maps.projector_moments.size() ==
@@ -338,8 +338,7 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
     out.write(reinterpret_cast<const char*>(&maps.grid.step_rad), sizeof(maps.grid.step_rad));
     const int32_t grid_dims[2] = {maps.grid.n_theta, maps.grid.n_phi};
     out.write(reinterpret_cast<const char*>(grid_dims), sizeof(grid_dims));
-    WriteVector(out, maps.grid.px);
-    WriteVector(out, maps.grid.py);
+    WriteVector(out, maps.grid.xy);
     WriteVector(out, maps.projector_moments);
     try {
       WriteFileAtomically(path.string(), out.str());

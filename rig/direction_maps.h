@@ -12,6 +12,7 @@
 // maps of a real, misaligned rig with the same types.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -40,7 +41,12 @@ struct DirectionMap {
 struct ProjectorDirectionGrid {
   double step_rad = 0;
   int n_theta = 0, n_phi = 0;  // nodes: theta = i * step (i < n_theta), phi = j * step
-  std::vector<float> px, py;   // NaN where that direction does not reach the projector
+  // Projector pixel coordinates of node k = i * n_phi + j at xy[2k] (x) and xy[2k + 1] (y), NaN
+  // where that direction does not reach the projector. Interleaved, so that a lookup's four
+  // nodes are two cache lines (the transport build does one per sample, at random directions).
+  std::vector<float> xy;
+
+  bool Covered(size_t node) const { return !std::isnan(xy[2 * node]); }
 
   // Bilinear interpolation of the coordinates between the four surrounding nodes; false if
   // any of them is uncovered (callers trace such directions exactly).

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -62,6 +63,44 @@ TEST(Distribution1DTest, EdgeUniformsNeverReachZeroWeightCells) {
   EXPECT_LT(remapped, 1.0);
   EXPECT_EQ(dist.Pdf(1.0), 0.0);
   EXPECT_EQ(dist.Pdf(-0.1), 0.0);
+}
+
+TEST(Distribution1DTest, CellsAreThoseOfABinarySearchOfTheCdf) {
+  // A peaked distribution like the proxy sampler's lobes (128 cells, runs of zeros, weights
+  // over 12 decades) and uniforms on both sides of every cdf entry and of every guide boundary
+  // g / n, where the cell search starts: the cell must be the one a binary search of the cdf
+  // finds (the cdf as documented: running sums over the total, 1 after the last positive
+  // weight), and always one of positive weight.
+  const int n = 128;
+  std::vector<double> weights(n, 0.0);
+  for (int k = 0; k < n; ++k) {
+    if (k % 17 == 3 || (k > 40 && k < 52)) continue;
+    weights[k] = std::exp(-0.5 * (k - 20) * (k - 20) / 9.0) + 1e-12 * k;
+  }
+  weights[n - 1] = weights[n - 2] = 0.0;
+  const Distribution1D dist(weights);
+  std::vector<double> cdf(n + 1, 0.0);
+  for (int k = 0; k < n; ++k) cdf[k + 1] = cdf[k] + weights[k];
+  const double sum = cdf[n];
+  for (int k = 1; k <= n; ++k) cdf[k] = k >= n - 2 ? 1.0 : cdf[k] / sum;
+  std::vector<double> us;
+  for (int k = 0; k <= n; ++k) {
+    for (double edge : {cdf[k], static_cast<double>(k) / n}) {
+      us.push_back(edge);
+      us.push_back(std::nextafter(edge, 0.0));
+      us.push_back(std::nextafter(edge, 2.0));
+    }
+  }
+  Rng rng(7);
+  for (int i = 0; i < 10000; ++i) us.push_back(rng.Uniform());
+  for (double u : us) {
+    if (!(u >= 0 && u < 1)) continue;
+    const int expected = std::clamp(
+        static_cast<int>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1, 0, n - 1);
+    const int cell = dist.SampleDiscrete(u);
+    ASSERT_EQ(cell, expected) << "u=" << u;
+    ASSERT_GT(weights[cell], 0.0) << "u=" << u;
+  }
 }
 
 TEST(Distribution1DTest, DiscreteRemappedUniformIsUniform) {
