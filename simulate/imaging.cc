@@ -24,6 +24,7 @@
 #include "basis/parallel.h"
 #include "basis/zone.h"
 #include "brdf/fingerprint.h"
+#include "simulate/normal_sampler.h"
 
 namespace zbrdf {
 
@@ -724,39 +725,36 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
   const double exposure_s = exposure_us * 1e-6;
   const double max_dn = std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1);
   const uint64_t key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
+  const ZigguratNormal& normal = ZigguratNormal::Get();
   ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, [&](int64_t p0, int64_t p1) {
     for (int64_t p = p0; p < p1; ++p) {
       double electrons = std::max(0.0, static_cast<double>(electron_rate[p]) * exposure_s);
       double read = 0;
       if (add_noise) {
         uint64_t h = HashMix(key + static_cast<uint64_t>(p) * 0x9e3779b97f4a7c15ull);
-        auto next = [&h]() {
+        auto next_word = [&h]() {
           h = HashMix(h);
-          return UniformFromHash(h);
+          return h;
         };
         const bool poisson = electrons < 30;
-        if (poisson) {
+        if (poisson && electrons > 0) {  // (a pixel off the sample has mean 0: no draw)
           // Poisson by multiplication of uniforms (Knuth), exact for small means.
           const double limit = std::exp(-electrons);
-          double product = next();
+          double product = UniformFromHash(next_word());
           int count = 0;
           while (product > limit && count < 1000) {
-            product *= next();
+            product *= UniformFromHash(next_word());
             ++count;
           }
           electrons = count;
         }
-        // Box-Muller gives two independent standard normals from one pair of uniforms: the
-        // read noise, and (above 30 electrons) the shot noise as N(mu, mu), whose variance is
-        // exact and skew < 1/sqrt(30).
-        const double u1 = std::max(next(), 1e-300), u2 = next();
-        const double radius = std::sqrt(-2 * std::log(u1));
-        const double normal_read = radius * std::cos(2 * M_PI * u2);
+        // The read noise, and (above 30 electrons) the shot noise as N(mu, mu), whose variance
+        // is exact and skew < 1/sqrt(30); standard normals by the ziggurat method.
+        read = s.read_noise_e * normal.Sample(next_word);
         if (!poisson) {
-          electrons += std::sqrt(electrons) * radius * std::sin(2 * M_PI * u2);
+          electrons += std::sqrt(electrons) * normal.Sample(next_word);
           electrons = std::max(0.0, electrons);
         }
-        read = s.read_noise_e * normal_read;
       }
       electrons = std::min(electrons, s.full_well_e);
       const double dn = s.dark_level_dn + (electrons + read) / s.gain_e_per_dn;
