@@ -1,8 +1,10 @@
 #include "brdf/proxy_sampler.h"
 
 #include <algorithm>
-#include <functional>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 
 namespace zbrdf {
 namespace {
@@ -30,6 +32,13 @@ HalfVectorProxySampler::HalfVectorProxySampler(const Brdf& brdf) {
     cos_edges_[k] = std::cos(theta_edges_[k]);
   }
   cos_edges_[kCells] = 0.0;
+  // Each bucket's first cell: that of the smallest u in it (u = 0 for the first).
+  for (int b = 0; b < kGuideBuckets; ++b) {
+    const uint64_t first_bits =
+        (static_cast<uint64_t>(1023 - kGuideOctaves) << kGuideMantissaBits) + b;
+    const double u = b == 0 ? 0.0 : std::bit_cast<double>(first_bits << (52 - kGuideMantissaBits));
+    guide_[b] = CellBySearch(1.0 - u);
+  }
   probes_.resize(kProbes);
   for (int p = 0; p < kProbes; ++p) {
     Probe& probe = probes_[p];
@@ -107,17 +116,35 @@ Vec3 HalfVectorProxySampler::SampleHalfVector(const Probe& probe, double u0, dou
   return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
 }
 
-int HalfVectorProxySampler::CellOf(const Vec3& h) const {
+int HalfVectorProxySampler::CellBySearch(double cos_theta) const {
   // Cell k holds theta_h in [theta_edges_[k], theta_edges_[k + 1]), i.e. cos(theta_h) in
-  // (cos_edges_[k + 1], cos_edges_[k]]: the first edge below h.z closes h's cell. A binary search
-  // of the decreasing cosines instead of acos (the simulator's transport build calls this for
-  // every glossy sample). Measured and not taken: a first guess from sqrt(1 - h.z) (a table of
-  // 2048 bins, or a series for asin) is 2-4x faster on random half vectors in isolation, but
-  // its chain of dependent sqrt and loads made the sampler's pdf check 20-50% slower, where the
-  // search's branches are predicted; a branch-free search (conditional moves) made that check
-  // 40% slower and the simulator no faster.
-  const auto it = std::upper_bound(cos_edges_.begin(), cos_edges_.end(), h.z, std::greater<>());
+  // (cos_edges_[k + 1], cos_edges_[k]]: the first edge below cos_theta closes its cell.
+  const auto it =
+      std::upper_bound(cos_edges_.begin(), cos_edges_.end(), cos_theta, std::greater<>());
   return std::clamp(static_cast<int>(it - cos_edges_.begin()) - 1, 0, kCells - 1);
+}
+
+int HalfVectorProxySampler::CellOf(const Vec3& h) const {
+  // CellBySearch(h.z), started from a guide table indexed by the exponent and top 5 mantissa
+  // bits of u = 1 - h.z (32 buckets per octave of u, from 2^-40 up): no bucket holds two cell
+  // edges, so the guide's cell is h's or the one before it. Integer operations only (no acos, no
+  // sqrt); the binary search's branches are unpredictable for the simulator's random half
+  // vectors. Measured: a fast simulation's CPU time -4%, the sampler's pdf check (whose cubature
+  // asks for neighbouring half vectors, so the search's branches are predicted) 20.4 -> 22.9 s;
+  // a guide over sqrt(sqrt(1 - h.z)) saved 9% and cost that check 37%.
+  if (!(h.z >= 0 && h.z <= 1)) return CellBySearch(h.z);
+  int cell = guide_[GuideBucket(1.0 - h.z)];
+  while (cell > 0 && cos_edges_[cell] < h.z) --cell;
+  while (cell + 1 < kCells && cos_edges_[cell + 1] >= h.z) ++cell;
+  return cell;
+}
+
+int HalfVectorProxySampler::GuideBucket(double u) {
+  // u in [0, 1]: its bits, exponent and mantissa, are monotonic in u.
+  const int64_t bits =
+      static_cast<int64_t>(std::bit_cast<uint64_t>(u) >> (52 - kGuideMantissaBits));
+  constexpr int64_t kFirst = static_cast<int64_t>(1023 - kGuideOctaves) << kGuideMantissaBits;
+  return static_cast<int>(std::clamp<int64_t>(bits - kFirst, 0, kGuideBuckets - 1));
 }
 
 double HalfVectorProxySampler::LobeProbability(const Vec3& w_o) const {

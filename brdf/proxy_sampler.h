@@ -17,6 +17,7 @@
 // density Sample() draws from. Probing costs about 8500 evaluations of the BRDF.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -68,6 +69,12 @@ class HalfVectorProxySampler {
   double LobePdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;  // lobes alone
   Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
   int CellOf(const Vec3& h) const;  // theta_h cell of h (h.z >= 0), by its cosine: no acos
+  int CellBySearch(double cos_theta) const;
+  // The guide for CellOf: 32 buckets per octave of u = 1 - h.z over [2^-40, 1], and one below.
+  static constexpr int kGuideMantissaBits = 5, kGuideOctaves = 40;
+  static constexpr int kGuideBuckets = (kGuideOctaves << kGuideMantissaBits) + 1;
+  static int GuideBucket(double u);
+  std::array<int, kGuideBuckets> guide_{};  // the cell of each bucket's smallest u
 
   std::vector<double> theta_edges_, cos_edges_;
   std::vector<Probe> probes_;
