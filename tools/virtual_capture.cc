@@ -188,6 +188,13 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     args.job.session_extra["calibration_folder"] =
         std::filesystem::absolute(args.calibration_folder).lexically_normal().string();
   }
+  if (args.on_plan_material) {
+    args.job.on_plan = [user = args.job.on_plan, hook = args.on_plan_material,
+                        material = out.material](const CapturePlan& plan, double predicted_s) {
+      if (user) user(plan, predicted_s);
+      hook(plan, material);
+    };
+  }
   out.result = RunCaptureJob(args.rig, calibration, *camera, rig.projector(), rig.clock(), args.job);
   if (gige) out.incomplete_frames = gige->incomplete_frames();
   out.device_time_s = rig.clock().NowUs() * 1e-6;

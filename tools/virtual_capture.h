@@ -1,6 +1,7 @@
 // Capture jobs on the virtual rig, shared by `zbrdf simulate` and `zbrdf capture --material`.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -45,6 +46,10 @@ struct VirtualCaptureArgs {
   CameraLink camera_link = CameraLink::kDirect;
   GigEFakeOptions gige;
   CaptureJobOptions job;
+  // Called with the plan (after job.on_plan) and the material the rig images, before the first
+  // planned frame: for work that needs both and can overlap the capture (zbrdf simulate's true
+  // coefficients).
+  std::function<void(const CapturePlan&, const std::shared_ptr<const Brdf>&)> on_plan_material;
 };
 
 struct VirtualCaptureOutcome {

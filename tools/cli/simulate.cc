@@ -2,12 +2,14 @@
 // against the material's true coefficients.
 #include <chrono>
 #include <cstdio>
+#include <future>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
 #include "acquisition/capture_job.h"
 #include "acquisition/ground_truth.h"
+#include "acquisition/zonal.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "brdf/material_spec.h"
@@ -20,6 +22,15 @@
 
 namespace zbrdf::cli {
 namespace {
+
+// Whether the true coefficients integrated for `a` hold for `b`: the same zone, order and grid.
+bool SameLayout(const ZonalData& a, const ZonalData& b) {
+  const ExitantGrid &g = a.grid, &h = b.grid;
+  return a.theta_min_rad == b.theta_min_rad && a.theta_max_rad == b.theta_max_rad &&
+         a.order == b.order && g.theta_min_rad == h.theta_min_rad &&
+         g.theta_max_rad == h.theta_max_rad && g.theta_step_rad == h.theta_step_rad &&
+         g.phi_step_rad == h.phi_step_rad && g.n_theta == h.n_theta && g.n_phi == h.n_phi;
+}
 
 using SteadyTime = std::chrono::steady_clock;
 double Seconds(SteadyTime::time_point a, SteadyTime::time_point b) {
@@ -86,6 +97,27 @@ int RunSimulate(const std::vector<std::string>& argv) {
   options.interrupt = InstallInterruptHandler();
   options.on_plan = PrintPlanSummary;
   const std::string out_dir = options.out_dir;
+  GroundTruthOptions truth_options;
+  truth_options.samples = 1;
+  while (truth_options.samples < truth_samples) truth_options.samples *= 2;
+  const std::string truth_cache = DefaultCacheDir() + "/truth";
+  // The true coefficients need only the material and the plan's zone, order and exitant grid:
+  // they are integrated on a thread of their own while the frames are captured. (Declared
+  // before the capture: if it throws, the future's destructor waits for the thread.)
+  ZonalData early_layout;
+  std::future<GroundTruth> early_truth;
+  args.on_plan_material = [&](const CapturePlan& plan,
+                              const std::shared_ptr<const Brdf>& material) {
+    early_layout.theta_min_rad = plan.theta_min_rad;
+    early_layout.theta_max_rad = plan.theta_max_rad;
+    early_layout.order = plan.order;
+    early_layout.grid = MakeExitantGrid(plan.zone(), options.processing.theta_step_deg,
+                                        options.processing.phi_step_deg);
+    early_truth = std::async(std::launch::async, [material, layout = early_layout, truth_options,
+                                                  truth_cache] {
+      return TrueZonalCoefficientsCached(*material, layout, truth_options, truth_cache);
+    });
+  };
   const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
   const CaptureJobResult& result = outcome.result;
   const Brdf& material = *outcome.material;
@@ -97,11 +129,10 @@ int RunSimulate(const std::vector<std::string>& argv) {
                  result.capture.frames_captured, out_dir.c_str());
     return 130;
   }
-  GroundTruthOptions truth_options;
-  truth_options.samples = 1;
-  while (truth_options.samples < truth_samples) truth_options.samples *= 2;
   const GroundTruth truth =
-      TrueZonalCoefficientsCached(material, result.zonal, truth_options, DefaultCacheDir() + "/truth");
+      early_truth.valid() && SameLayout(early_layout, result.zonal)
+          ? early_truth.get()
+          : TrueZonalCoefficientsCached(material, result.zonal, truth_options, truth_cache);
   const double error = CoefficientError(result.zonal, truth);
   const auto t_truth = SteadyTime::now();
 
