@@ -113,10 +113,10 @@ int RunSimulate(const std::vector<std::string>& argv) {
     early_layout.order = plan.order;
     early_layout.grid = MakeExitantGrid(plan.zone(), options.processing.theta_step_deg,
                                         options.processing.phi_step_deg);
-    early_truth = std::async(std::launch::async, [material, layout = early_layout, truth_options,
-                                                  truth_cache] {
-      return TrueZonalCoefficientsCached(*material, layout, truth_options, truth_cache);
-    });
+    early_truth = std::async(
+        std::launch::async, [material, layout = early_layout, truth_options, truth_cache] {
+          return TrueZonalCoefficientsCached(*material, layout, truth_options, truth_cache);
+        });
   };
   const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
   const CaptureJobResult& result = outcome.result;
