@@ -21,7 +21,7 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint32_t kMapsCacheVersion = 9;  // 9: the grid's coordinates interleaved
+constexpr uint32_t kMapsCacheVersion = 10;  // 9: the grid interleaved; 10: dome hits by false position
 
 // chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
 // the direction it lights the sample center from), else the mean of its landed rays (the
@@ -254,7 +254,8 @@ bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_o
   const int i = static_cast<int>(fi), j = static_cast<int>(fj);
   if (i + 1 >= n_theta) return false;
   const double a = fi - i, b = fj - j;
-  // phi is in [0, 2 pi): j is at most n_phi (rounding), no division needed for the wrap.
+  // phi is in [0, 2 pi] (the zone sampler's azimuth may reach 2 pi): j is at most n_phi, so
+  // the wrap needs no division.
   const int j0 = j >= n_phi ? j - n_phi : j, j1 = j0 + 1 == n_phi ? 0 : j0 + 1;
   const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
   const float* n01 = &xy[2 * (static_cast<size_t>(i) * n_phi + j1)];

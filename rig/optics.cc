@@ -159,22 +159,33 @@ std::optional<Hit> DomeSurface::Intersect(const Ray& ray, double t_min) const {
   };
   int seg_lo = 0, seg_hi = 0;
   double g_lo = g(t_lo, &seg_lo);
-  const double g_hi = g(t_hi, &seg_hi);
+  double g_hi = g(t_hi, &seg_hi);
   if (g_lo > 0) return std::nullopt;  // starts outside the mirror
   if (g_hi < 0) return std::nullopt;  // leaves through the top hole or below the lower edge
-  // Bracket the exit until it lies within one cone frustum, then solve exactly.
+  // Bracket the exit until it lies within one cone frustum, then solve exactly. The bracket
+  // shrinks by false position with the Illinois modification (an end kept twice in a row has
+  // its g halved, so both ends close in): g is smooth on the scale of the bracket (thousands
+  // of frustums), where bisection took ~14 steps to reach one frustum of the thesis dome's
+  // 20000, this takes ~5. Any step that would not fall strictly inside bisects instead.
   double a = t_lo, b = t_hi;
+  int kept = 0;  // -1: a was kept last step, +1: b was
   for (int iter = 0; iter < 200 && seg_lo != seg_hi && b - a > 1e-12; ++iter) {
-    const double mid = 0.5 * (a + b);
+    double mid = (a * g_hi - b * g_lo) / (g_hi - g_lo);
+    if (!(mid > a && mid < b)) mid = 0.5 * (a + b);
     int seg_mid = 0;
     const double g_mid = g(mid, &seg_mid);
     if (g_mid < 0) {
       a = mid;
       seg_lo = seg_mid;
       g_lo = g_mid;
+      if (kept == +1) g_hi *= 0.5;
+      kept = +1;
     } else {
       b = mid;
       seg_hi = seg_mid;
+      g_hi = g_mid;
+      if (kept == -1) g_lo *= 0.5;
+      kept = -1;
     }
   }
   double t_hit = 0.5 * (a + b);

@@ -209,7 +209,8 @@ class Coverage {
     return std::clamp(j, 0, n_phi_ - 1);
   }
   // The same, from the guide table: a step or two from where u's guide cell starts instead of a
-  // binary search of n_phi columns (a sample's largest single cost in the transport's loop).
+  // binary search of n_phi columns (its unpredictable branches were a quarter of the transport
+  // loop's own time).
   int Column(double u) const {
     if (!(u >= 0 && u < 1)) return ColumnBySearch(u);
     int j = guide_[std::min(static_cast<int>(u * n_phi_), n_phi_ - 1)];
