@@ -21,7 +21,8 @@ namespace zbrdf {
 
 namespace {
 
-constexpr uint32_t kMapsCacheVersion = 10;  // 9: the grid interleaved; 10: dome hits by false position
+// 9: the grid's coordinates interleaved; 10: dome hits by false position.
+constexpr uint32_t kMapsCacheVersion = 10;
 
 // chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
 // the direction it lights the sample center from), else the mean of its landed rays (the
