@@ -24,6 +24,7 @@
 #include "basis/parallel.h"
 #include "basis/zone.h"
 #include "brdf/fingerprint.h"
+#include "brdf/sampling.h"
 #include "simulate/normal_sampler.h"
 
 namespace zbrdf {
@@ -129,7 +130,7 @@ class Coverage {
       : step_(grid.step_rad), n_phi_(grid.n_phi) {
     lo_.assign(n_phi_, 0.0);
     hi_.assign(n_phi_, 0.0);
-    cdf_.assign(n_phi_ + 1, 0.0);
+    std::vector<double> column_weights(n_phi_, 0.0);
     double total = 0;
     for (int j = 0; j < n_phi_; ++j) {
       const double phi = (j + 0.5) * step_;
@@ -161,23 +162,21 @@ class Coverage {
         theta_max_ = std::max(theta_max_, hi_[j]);
       }
       // Projected solid angle of the column: integral cos(theta) dw = (sin^2 hi - sin^2 lo) / 2.
-      total += 0.5 * (Sin2(hi_[j]) - Sin2(lo_[j])) * step_;
-      cdf_[j + 1] = total;
+      column_weights[j] = 0.5 * (Sin2(hi_[j]) - Sin2(lo_[j])) * step_;
+      total += column_weights[j];
     }
     if (!(total > 0)) throw NumericalError("no direction of the hemisphere reaches the projector");
-    for (double& c : cdf_) c /= total;
     inverse_projected_solid_angle_ = 1.0 / total;
-    // Where the search for u starts: the column of g / n_phi, for u in [g, g + 1) / n_phi.
-    guide_.resize(n_phi_);
-    for (int g = 0; g < n_phi_; ++g) guide_[g] = ColumnBySearch(static_cast<double>(g) / n_phi_);
+    columns_.emplace(column_weights);
   }
 
   // A direction with density Pdf, from u0, u1 in [0, 1); *phi_out (optional) is its azimuth in
   // [0, 2 pi], as sampled (SphericalPhi of the direction up to rounding).
   Vec3 Sample(double u0, double u1, double* phi_out = nullptr) const {
-    int j = Column(u0);
-    while (cdf_[j + 1] <= cdf_[j] && j + 1 < n_phi_) ++j;
-    const double t = std::clamp((u0 - cdf_[j]) / (cdf_[j + 1] - cdf_[j]), 0.0, 1.0);
+    // The column in proportion to its projected solid angle (never an empty one), and u0
+    // rescaled within it for the azimuth.
+    double t = 0;
+    const int j = columns_->SampleDiscrete(u0, nullptr, &t);
     const double phi = (j + t) * step_;
     if (phi_out != nullptr) *phi_out = phi;
     // sin^2(theta) is uniform for a cosine-weighted density.
@@ -202,26 +201,10 @@ class Coverage {
 
  private:
   static double Sin2(double theta) { return std::sin(theta) * std::sin(theta); }
-  // The column j with cdf_[j] <= u < cdf_[j + 1] (the last one for u >= 1, the first for u < 0).
-  int ColumnBySearch(double u) const {
-    const int j =
-        static_cast<int>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
-    return std::clamp(j, 0, n_phi_ - 1);
-  }
-  // The same, from the guide table: a step or two from where u's guide cell starts instead of a
-  // binary search of n_phi columns (its unpredictable branches were a quarter of the transport
-  // loop's own time).
-  int Column(double u) const {
-    if (!(u >= 0 && u < 1)) return ColumnBySearch(u);
-    int j = guide_[std::min(static_cast<int>(u * n_phi_), n_phi_ - 1)];
-    while (j > 0 && cdf_[j] > u) --j;  // u * n_phi may round up to the next guide cell
-    while (j + 1 < n_phi_ && cdf_[j + 1] <= u) ++j;
-    return j;
-  }
   double step_;
   int n_phi_;
-  std::vector<double> lo_, hi_, cdf_;
-  std::vector<int> guide_;
+  std::vector<double> lo_, hi_;
+  std::optional<Distribution1D> columns_;  // weights: the columns' projected solid angles
   double inverse_projected_solid_angle_ = 0;
   double theta_min_ = M_PI, theta_max_ = 0;
 };
