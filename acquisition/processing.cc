@@ -74,6 +74,15 @@ void ProcessingOptions::Validate() const {
       .ThrowIfInvalid();
 }
 
+ZonalData ZonalLayout(const CapturePlan& plan, const ProcessingOptions& options) {
+  ZonalData data;
+  data.theta_min_rad = plan.theta_min_rad;
+  data.theta_max_rad = plan.theta_max_rad;
+  data.order = plan.order;
+  data.grid = MakeExitantGrid(plan.zone(), options.theta_step_deg, options.phi_step_deg);
+  return data;
+}
+
 ZonalProcessor::ZonalProcessor(const CapturePlan& plan, const std::vector<LobePatternInfo>& patterns,
                                const RigCalibration& calibration, const ProcessingOptions& options)
     : plan_(plan), patterns_(patterns), calibration_(calibration), options_(options) {
@@ -83,12 +92,9 @@ ZonalProcessor::ZonalProcessor(const CapturePlan& plan, const std::vector<LobePa
                      " patterns for " + std::to_string(plan.lobes.size()) + " lobes)");
   }
   const auto start = WallClock::now();
-  grid_ = MakeExitantGrid(plan.zone(), options.theta_step_deg, options.phi_step_deg);
+  data_ = ZonalLayout(plan, options);
+  grid_ = data_.grid;
   resampler_ = std::make_unique<PixelToGrid>(calibration, grid_);
-  data_.theta_min_rad = plan.theta_min_rad;
-  data_.theta_max_rad = plan.theta_max_rad;
-  data_.order = plan.order;
-  data_.grid = grid_;
   data_.functions.resize(ShCount(plan.order));
   stats_.zonal_seconds += SecondsSince(start);
 }

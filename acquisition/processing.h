@@ -42,6 +42,10 @@ struct ProcessingOptions {
   void Validate() const;
 };
 
+// The zone, order and exitant grid of the ZonalData that processing a capture of `plan` fills
+// (no values yet): what the true coefficients need before the capture has ended.
+ZonalData ZonalLayout(const CapturePlan& plan, const ProcessingOptions& options);
+
 struct ProcessingStats {
   double hdr_seconds = 0;    // merging exposures
   double image_seconds = 0;  // demosaicing and writing HDR images (on their own thread)

@@ -9,6 +9,7 @@
 
 #include "acquisition/capture_job.h"
 #include "acquisition/ground_truth.h"
+#include "acquisition/processing.h"
 #include "acquisition/zonal.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
@@ -101,18 +102,15 @@ int RunSimulate(const std::vector<std::string>& argv) {
   truth_options.samples = 1;
   while (truth_options.samples < truth_samples) truth_options.samples *= 2;
   const std::string truth_cache = DefaultCacheDir() + "/truth";
-  // The true coefficients need only the material and the plan's zone, order and exitant grid:
-  // they are integrated on a thread of their own while the frames are captured. (Declared
-  // before the capture: if it throws, the future's destructor waits for the thread.)
+  // The true coefficients need only the material and the plan's zone, order and exitant grid
+  // (ZonalLayout, as processing lays them out): they are integrated on a thread of their own
+  // while the frames are captured, and checked against the capture's layout when it ends.
+  // (Declared before the capture: if it throws, the future's destructor waits for the thread.)
   ZonalData early_layout;
   std::future<GroundTruth> early_truth;
   args.on_plan_material = [&](const CapturePlan& plan,
                               const std::shared_ptr<const Brdf>& material) {
-    early_layout.theta_min_rad = plan.theta_min_rad;
-    early_layout.theta_max_rad = plan.theta_max_rad;
-    early_layout.order = plan.order;
-    early_layout.grid = MakeExitantGrid(plan.zone(), options.processing.theta_step_deg,
-                                        options.processing.phi_step_deg);
+    early_layout = ZonalLayout(plan, options.processing);
     early_truth = std::async(
         std::launch::async, [material, layout = early_layout, truth_options, truth_cache] {
           return TrueZonalCoefficientsCached(*material, layout, truth_options, truth_cache);
