@@ -44,6 +44,14 @@ class Brdf {
   // Evaluates many pairs; f[k] = Eval(w_i[k], w_o[k]). Override where batching is faster.
   virtual void EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
                          std::span<Rgb> f) const;
+  // EvalBatch where single-precision arithmetic inside is acceptable (errors of ~1e-6 relative):
+  // Monte Carlo sums whose own error is orders of magnitude larger (the simulator's light
+  // transport). Models whose arithmetic is cheaper in float override it; the rest evaluate
+  // EvalBatch.
+  virtual void EvalBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                                        std::span<Rgb> f) const {
+    EvalBatch(w_i, w_o, f);
+  }
 
   // Proposes w_i for the given w_o from uniform random numbers u_lobe, u0, u1 in [0, 1).
   // u_lobe chooses among lobes of a mixture; (u0, u1) place the direction.

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <mutex>
 #include <map>
+#include <type_traits>
 #include <nlohmann/json.hpp>
 
 #include "basis/data_path.h"
@@ -73,7 +74,8 @@ NbrdfNetwork::Layer ReadLayer(const std::string& path, const nlohmann::json& jso
 // cos/sin of phi_h and theta_h come from h itself: rotating by -phi_h about z maps
 // (x, y) -> (x cos + y sin, y cos - x sin); by -theta_h about y maps
 // (x, z) -> (x cos - z sin, x sin + z cos).
-inline bool NetworkInput(const Vec3& w_i, const Vec3& w_o, double* x, int stride) {
+template <typename T>
+inline bool NetworkInput(const Vec3& w_i, const Vec3& w_o, T* x, int stride) {
   if (w_i.z <= 0 || w_o.z <= 0) return false;
   const Vec3 h = Normalize(w_i + w_o);
   const double sin_h = std::sqrt(h.x * h.x + h.y * h.y);
@@ -85,56 +87,115 @@ inline bool NetworkInput(const Vec3& w_i, const Vec3& w_o, double* x, int stride
   }
   const double tx = w_i.x * cos_phi + w_i.y * sin_phi;
   const double ty = w_i.y * cos_phi - w_i.x * sin_phi;
-  x[0 * stride] = sin_h;
-  x[1 * stride] = 0.0;
-  x[2 * stride] = cos_h;
-  x[3 * stride] = tx * cos_h - w_i.z * sin_h;
-  x[4 * stride] = ty;
-  x[5 * stride] = tx * sin_h + w_i.z * cos_h;
+  x[0 * stride] = static_cast<T>(sin_h);
+  x[1 * stride] = T(0);
+  x[2 * stride] = static_cast<T>(cos_h);
+  x[3 * stride] = static_cast<T>(tx * cos_h - w_i.z * sin_h);
+  x[4 * stride] = static_cast<T>(ty);
+  x[5 * stride] = static_cast<T>(tx * sin_h + w_i.z * cos_h);
   return true;
 }
 
 // dst[j][k] = act(b[j] + sum_i w_t[j][i] src[i][k]) for the pairs k < tiles * kWidth, with
-// rows `stride` apart, summed in the same order for every kWidth. For kWidth a multiple of 4 the
-// accumulators are GCC vectors of 4 doubles, kept in registers: two SSE2 registers each on any
-// x86-64, one AVX2 register in EvaluateLayers' AVX2 version.
-template <int kWidth>
-[[gnu::always_inline]] inline void Dense(const NbrdfNetwork::Layer& layer,
-                                         const std::vector<double>& w_t, const double* src,
-                                         double* dst, int stride, int tiles, bool relu) {
+// rows `stride` apart and in inputs, summed in the same order (i ascending, from the bias) for
+// every kWidth and kOuts, so every version rounds alike. For kWidth a multiple of the lanes of a
+// 32-byte vector (4 doubles, 8 floats) the accumulators are GCC vectors kept in registers (two
+// SSE2 registers each on any x86-64, one AVX2 register in the AVX2 versions below), for kOuts
+// neurons at once: each load of an input row serves kOuts neurons instead of one (the loads,
+// not the arithmetic, bounded the one-neuron loop).
+// 32 bytes of T as one GCC vector (spelled per type: GCC ignores vector_size on a dependent type).
+template <typename T>
+struct Vector32;
+template <>
+struct Vector32<double> {
+  typedef double type __attribute__((vector_size(32)));
+};
+template <>
+struct Vector32<float> {
+  typedef float type __attribute__((vector_size(32)));
+};
+
+template <typename T, int kWidth, int kOuts>
+[[gnu::always_inline]] inline void DenseNeurons(int in, const T* w_t, const T* bias, const T* src,
+                                                T* dst, int stride, int k0, int j0, bool relu) {
+  using Vector = typename Vector32<T>::type;
+  static_assert(sizeof(Vector) == 32);
+  constexpr int kLanes = 32 / sizeof(T);
+  constexpr int kVectors = kWidth / kLanes;
+  const T* w[kOuts];
+  Vector acc[kOuts][kVectors];
+  for (int o = 0; o < kOuts; ++o) {
+    w[o] = w_t + static_cast<size_t>(j0 + o) * in;
+    for (int q = 0; q < kVectors; ++q) acc[o][q] = Vector{} + bias[j0 + o];
+  }
+  for (int i = 0; i < in; ++i) {
+    const T* row = src + static_cast<size_t>(i) * stride + k0;
+    Vector w_i[kOuts];
+    for (int o = 0; o < kOuts; ++o) w_i[o] = Vector{} + w[o][i];
+    for (int q = 0; q < kVectors; ++q) {
+      Vector x;
+      std::memcpy(&x, row + kLanes * q, sizeof(x));
+      for (int o = 0; o < kOuts; ++o) acc[o][q] += w_i[o] * x;
+    }
+  }
+  for (int o = 0; o < kOuts; ++o) {
+    T* out = dst + static_cast<size_t>(j0 + o) * stride + k0;
+    for (int q = 0; q < kVectors; ++q) {
+      if (relu) acc[o][q] = acc[o][q] > T(0) ? acc[o][q] : Vector{};
+      std::memcpy(out + kLanes * q, &acc[o][q], sizeof(Vector));
+    }
+  }
+}
+
+template <typename T, int kWidth>
+[[gnu::always_inline]] inline void Dense(int in, int out_count, const T* w_t, const T* bias,
+                                         const T* src, T* dst, int stride, int tiles, bool relu) {
   for (int tile = 0; tile < tiles; ++tile) {
     const int k0 = tile * kWidth;
-    for (int j = 0; j < layer.out; ++j) {
-      const double* w = &w_t[static_cast<size_t>(j) * layer.in];
-      double* out = dst + static_cast<size_t>(j) * stride + k0;
-      if constexpr (kWidth % 4 == 0) {
-        using Quad = double __attribute__((vector_size(32)));
-        constexpr int kQuads = kWidth / 4;
-        Quad acc[kQuads];
-        for (int q = 0; q < kQuads; ++q) acc[q] = Quad{} + layer.bias[j];
-        for (int i = 0; i < layer.in; ++i) {
-          const Quad w_i = Quad{} + w[i];
-          const double* row = src + static_cast<size_t>(i) * stride + k0;
-          for (int q = 0; q < kQuads; ++q) {
-            Quad x;
-            std::memcpy(&x, row + 4 * q, sizeof(x));
-            acc[q] += w_i * x;
-          }
-        }
-        for (int q = 0; q < kQuads; ++q) {
-          if (relu) acc[q] = acc[q] > 0.0 ? acc[q] : Quad{};
-          std::memcpy(out + 4 * q, &acc[q], sizeof(Quad));
-        }
-      } else {
+    if constexpr (kWidth % (32 / sizeof(T)) == 0) {
+      // Three neurons at a time: 12 accumulators (doubles), an input and three weights fill
+      // AVX2's 16 registers.
+      int j = 0;
+      for (; j + 3 <= out_count; j += 3) DenseNeurons<T, kWidth, 3>(in, w_t, bias, src, dst, stride, k0, j, relu);
+      for (; j < out_count; ++j) DenseNeurons<T, kWidth, 1>(in, w_t, bias, src, dst, stride, k0, j, relu);
+    } else {
+      for (int j = 0; j < out_count; ++j) {
+        const T* w = w_t + static_cast<size_t>(j) * in;
+        T* out = dst + static_cast<size_t>(j) * stride + k0;
         for (int k = 0; k < kWidth; ++k) {
-          double acc = layer.bias[j];
-          const double* col = src + k0 + k;
-          for (int i = 0; i < layer.in; ++i) acc += w[i] * col[static_cast<size_t>(i) * stride];
-          out[k] = relu ? std::max(acc, 0.0) : acc;
+          T acc = bias[j];
+          const T* col = src + k0 + k;
+          for (int i = 0; i < in; ++i) acc += w[i] * col[static_cast<size_t>(i) * stride];
+          out[k] = relu ? std::max(acc, T(0)) : acc;
         }
       }
     }
   }
+}
+
+template <typename T>
+LayerWeights<T> Transposed(const NbrdfNetwork::Layer& layer) {
+  LayerWeights<T> t;
+  t.in = layer.in;
+  t.out = layer.out;
+  t.w_t.resize(layer.weights.size());
+  for (int i = 0; i < layer.in; ++i) {
+    for (int j = 0; j < layer.out; ++j) {
+      t.w_t[static_cast<size_t>(j) * layer.in + i] =
+          static_cast<T>(layer.weights[static_cast<size_t>(i) * layer.out + j]);
+    }
+  }
+  t.bias.assign(layer.bias.begin(), layer.bias.end());
+  return t;
+}
+
+template <typename T>
+[[gnu::always_inline]] inline void ThreeLayers(const std::array<LayerWeights<T>, 3>& layers,
+                                               const T* x, T* a1, T* a2, T* y, int tiles) {
+  const auto& [l1, l2, l3] = layers;
+  Dense<T, kTile>(l1.in, l1.out, l1.w_t.data(), l1.bias.data(), x, a1, kBlock, tiles, true);
+  Dense<T, kTile>(l2.in, l2.out, l2.w_t.data(), l2.bias.data(), a1, a2, kBlock, tiles, true);
+  Dense<T, kTile>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, kBlock, tiles, false);
 }
 
 // The three layers of a block. Compiled twice, for x86-64 (SSE2) and for AVX2, and the version
@@ -143,24 +204,18 @@ template <int kWidth>
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 __attribute__((target_clones("avx2", "default")))
 #endif
-void EvaluateLayers(const std::array<NbrdfNetwork::Layer, 3>& layers,
-                    const std::array<std::vector<double>, 3>& transposed, const double* x,
+void EvaluateLayers(const std::array<LayerWeights<double>, 3>& layers, const double* x,
                     double* a1, double* a2, double* y, int tiles) {
-  Dense<kTile>(layers[0], transposed[0], x, a1, kBlock, tiles, true);
-  Dense<kTile>(layers[1], transposed[1], a1, a2, kBlock, tiles, true);
-  Dense<kTile>(layers[2], transposed[2], a2, y, kBlock, tiles, false);
+  ThreeLayers(layers, x, a1, a2, y, tiles);
 }
 
-// Transposed weights (out x in), so that a neuron's weights are contiguous.
-std::vector<double> Transposed(const NbrdfNetwork::Layer& layer) {
-  std::vector<double> t(layer.weights.size());
-  for (int i = 0; i < layer.in; ++i) {
-    for (int j = 0; j < layer.out; ++j) {
-      t[static_cast<size_t>(j) * layer.in + i] =
-          layer.weights[static_cast<size_t>(i) * layer.out + j];
-    }
-  }
-  return t;
+// The same in single precision (EvalBatchSinglePrecision): 8 pairs per AVX2 register.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+__attribute__((target_clones("avx2", "default")))
+#endif
+void EvaluateLayersFloat(const std::array<LayerWeights<float>, 3>& layers, const float* x,
+                         float* a1, float* a2, float* y, int tiles) {
+  ThreeLayers(layers, x, a1, a2, y, tiles);
 }
 
 }  // namespace
@@ -241,7 +296,8 @@ NbrdfBrdf::NbrdfBrdf(NbrdfNetwork network, std::string spec,
     ZBRDF_ASSERT(layers[k].weights.size() == static_cast<size_t>(layers[k].in) * layers[k].out &&
                      layers[k].bias.size() == static_cast<size_t>(layers[k].out),
                  "NbrdfBrdf: weight or bias count does not match the layer size");
-    transposed_[k] = Transposed(layers[k]);
+    weights_[k] = Transposed<double>(layers[k]);
+    weights_float_[k] = Transposed<float>(layers[k]);
   }
   if (sampler) {
     sampler_ = std::move(sampler);
@@ -304,26 +360,30 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromFile(const std::string& path) {
   return std::make_unique<NbrdfBrdf>(ReadNbrdfNetwork(path), "file:" + path);
 }
 
-void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count,
-                          double* scratch) const {
+template <typename T>
+void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count, T* scratch) const {
   // Structure-of-arrays scratch: each row holds one feature for the kBlock pairs. Rows past
   // `count` and of pairs below the horizon hold stale finite values; their results are dropped.
   const int hidden1 = network_.layers[0].out, hidden2 = network_.layers[1].out;
-  double* x = scratch;
-  double* a1 = x + kInputs * kBlock;
-  double* a2 = a1 + hidden1 * kBlock;
-  double* y = a2 + hidden2 * kBlock;
+  T* x = scratch;
+  T* a1 = x + kInputs * kBlock;
+  T* a2 = a1 + hidden1 * kBlock;
+  T* y = a2 + hidden2 * kBlock;
   bool valid[kBlock];
   for (int k = 0; k < count; ++k) valid[k] = NetworkInput(w_i[k], w_o[k], x + k, kBlock);
   const int tiles = (count + kTile - 1) / kTile;
-  EvaluateLayers(network_.layers, transposed_, x, a1, a2, y, tiles);
+  if constexpr (std::is_same_v<T, float>) {
+    EvaluateLayersFloat(weights_float_, x, a1, a2, y, tiles);
+  } else {
+    EvaluateLayers(weights_, x, a1, a2, y, tiles);
+  }
   for (int k = 0; k < count; ++k) {
     if (!valid[k]) {
       f[k] = Rgb();
       continue;
     }
     for (int c = 0; c < kOutputs; ++c) {
-      f[k][c] = std::max(std::exp(y[c * kBlock + k]) - 1.0, 0.0);
+      f[k][c] = std::max(std::exp(static_cast<double>(y[c * kBlock + k])) - 1.0, 0.0);
     }
   }
 }
@@ -332,22 +392,34 @@ Rgb NbrdfBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
   double x[kInputs];
   if (!NetworkInput(w_i, w_o, x, 1)) return {};
   double a1[kMaxHidden], a2[kMaxHidden], y[kOutputs];
-  Dense<1>(network_.layers[0], transposed_[0], x, a1, 1, 1, true);
-  Dense<1>(network_.layers[1], transposed_[1], a1, a2, 1, 1, true);
-  Dense<1>(network_.layers[2], transposed_[2], a2, y, 1, 1, false);
+  const auto& [l1, l2, l3] = weights_;
+  Dense<double, 1>(l1.in, l1.out, l1.w_t.data(), l1.bias.data(), x, a1, 1, 1, true);
+  Dense<double, 1>(l2.in, l2.out, l2.w_t.data(), l2.bias.data(), a1, a2, 1, 1, true);
+  Dense<double, 1>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, 1, 1, false);
   return {std::max(std::exp(y[0]) - 1.0, 0.0), std::max(std::exp(y[1]) - 1.0, 0.0),
           std::max(std::exp(y[2]) - 1.0, 0.0)};
 }
 
-void NbrdfBrdf::EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
-                          std::span<Rgb> f) const {
+template <typename T>
+void NbrdfBrdf::EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                            std::span<Rgb> f) const {
   ZBRDF_ASSERT(w_i.size() == w_o.size() && w_i.size() == f.size(), "EvalBatch size mismatch");
   const size_t rows = kInputs + network_.layers[0].out + network_.layers[1].out + kOutputs;
-  std::vector<double> scratch(rows * kBlock, 0.0);
+  std::vector<T> scratch(rows * kBlock, T(0));
   for (size_t start = 0; start < w_i.size(); start += kBlock) {
     const int count = static_cast<int>(std::min<size_t>(kBlock, w_i.size() - start));
     EvalBlock(&w_i[start], &w_o[start], &f[start], count, scratch.data());
   }
+}
+
+void NbrdfBrdf::EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                          std::span<Rgb> f) const {
+  EvalBatchIn<double>(w_i, w_o, f);
+}
+
+void NbrdfBrdf::EvalBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                                         std::span<Rgb> f) const {
+  EvalBatchIn<float>(w_i, w_o, f);
 }
 
 }  // namespace zbrdf

@@ -76,6 +76,19 @@ void BM_EvalBatch(benchmark::State& state, const char* spec) {
   SetPerPair(state);
 }
 
+// The simulator's evaluation (single precision inside).
+void BM_EvalBatchSinglePrecision(benchmark::State& state, const char* spec) {
+  const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
+  const Pairs& pairs = RandomPairs();
+  std::vector<Rgb> f(kPairs);
+  for (auto _ : state) {
+    brdf->EvalBatchSinglePrecision(pairs.w_i, pairs.w_o, f);
+    benchmark::DoNotOptimize(f.data());
+    benchmark::ClobberMemory();
+  }
+  SetPerPair(state);
+}
+
 // Sample() then Eval() at the sample: what a path tracer or the simulator pays per bounce.
 void BM_SampleAndEval(benchmark::State& state, const char* spec) {
   const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
@@ -98,6 +111,8 @@ BENCHMARK_CAPTURE(BM_EvalBatch, ggx, "ggx:alpha_x=0.2,alpha_y=0.3,F0=0.04,kd=0.1
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Eval, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EvalBatch, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvalBatchSinglePrecision, nbrdf_chrome, "merl:chrome")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SampleAndEval, ggx, "ggx:alpha_x=0.2,alpha_y=0.3,F0=0.04,kd=0.1")
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SampleAndEval, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
