@@ -14,6 +14,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <future>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -209,6 +212,17 @@ class Coverage {
   double theta_min_ = M_PI, theta_max_ = 0;
 };
 
+// Transport cache entries being written by this process (path -> the write): a model of the
+// same entry waits for it rather than building the transport a second time.
+std::mutex& PendingTransportWritesMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::map<std::string, std::shared_future<void>>& PendingTransportWrites() {
+  static std::map<std::string, std::shared_future<void>> writes;
+  return writes;
+}
+
 }  // namespace
 
 void ForwardModelOptions::Validate() const {
@@ -244,9 +258,32 @@ ForwardModel::ForwardModel(const OpticalSystem& optics, const RigMaps& maps, con
   }
   if (!from_cache_) {
     BuildTransport(material);
-    if (use_cache) SaveCached(path, key);
+    if (use_cache) {
+      // The transport is not changed after this: the write reads it while frames are rendered.
+      cache_path_ = path;
+      cache_write_ = std::async(std::launch::async, [this, path, key] { SaveCached(path, key); }).share();
+      std::lock_guard<std::mutex> lock(PendingTransportWritesMutex());
+      PendingTransportWrites()[path] = cache_write_;
+    }
   }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+ForwardModel::~ForwardModel() {
+  WaitForCacheWrite();
+  if (cache_write_.valid()) {
+    std::lock_guard<std::mutex> lock(PendingTransportWritesMutex());
+    const auto it = PendingTransportWrites().find(cache_path_);
+    // Another model may have registered a newer write of the same entry since.
+    if (it != PendingTransportWrites().end() && it->second.wait_for(std::chrono::seconds(0)) ==
+                                                    std::future_status::ready) {
+      PendingTransportWrites().erase(it);
+    }
+  }
+}
+
+void ForwardModel::WaitForCacheWrite() const {
+  if (cache_write_.valid()) cache_write_.wait();
 }
 
 uint64_t DefaultTransportCacheBytes() {
@@ -263,7 +300,7 @@ namespace {
 constexpr char kTransportMagic[8] = {'Z', 'B', 'R', 'D', 'F', 'T', 'R', 'N'};
 constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
-constexpr uint32_t kTransportVersion = 4;
+constexpr uint32_t kTransportVersion = 5;
 
 template <typename T>
 std::string_view Bytes(const std::vector<T>& v) {
@@ -303,8 +340,16 @@ std::string ForwardModel::CacheKey(const Brdf& material) const {
 }
 
 // Layout: magic, version, key length, key, pixels, entries, row_begin (pixels + 1 int64),
-// index (uint32), weight (float), control (pixels x kFootprintMoments float), end magic.
+// first_index (pixels uint32), weight_scale (pixels float), entries (entries x {uint16 step,
+// int16 weight}), control (pixels x kFootprintMoments float), end magic.
 bool ForwardModel::LoadCached(const std::string& path, const std::string& key) {
+  std::shared_future<void> pending;
+  {
+    std::lock_guard<std::mutex> lock(PendingTransportWritesMutex());
+    const auto it = PendingTransportWrites().find(path);
+    if (it != PendingTransportWrites().end()) pending = it->second;
+  }
+  if (pending.valid()) pending.wait();
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   char magic[8];
@@ -323,28 +368,35 @@ bool ForwardModel::LoadCached(const std::string& path, const std::string& key) {
     return false;
   }
   std::vector<int64_t> row_begin(pixels + 1);
-  std::vector<uint32_t> index(entries);
-  std::vector<float> weight(entries), control(pixels * kFootprintMoments);
+  std::vector<uint32_t> first_index(pixels);
+  std::vector<float> weight_scale(pixels), control(pixels * kFootprintMoments);
+  std::vector<PackedEntry> packed(entries);
   auto read = [&](auto& v) {
     return static_cast<bool>(in.read(reinterpret_cast<char*>(v.data()), v.size() * sizeof(v[0])));
   };
-  if (!read(row_begin) || !read(index) || !read(weight) || !read(control) || !in.read(magic, 8) ||
-      std::memcmp(magic, kTransportEnd, 8) != 0 || in.peek() != std::char_traits<char>::eof()) {
+  if (!read(row_begin) || !read(first_index) || !read(weight_scale) || !read(packed) ||
+      !read(control) || !in.read(magic, 8) || std::memcmp(magic, kTransportEnd, 8) != 0 ||
+      in.peek() != std::char_traits<char>::eof()) {
     return false;
   }
-  // A damaged entry must not index out of range: rows ascend within [0, entries].
+  // A damaged entry must not index out of range: rows ascend within [0, entries], and every
+  // pixel's steps stay below the projector's pixel count (summed in 64 bits: no wrap-around).
   if (row_begin[0] != 0 || row_begin[pixels] != static_cast<int64_t>(entries)) return false;
+  const uint64_t projector_pixels = static_cast<uint64_t>(optics_.rig().projector.lens.width) *
+                                    static_cast<uint64_t>(optics_.rig().projector.lens.height);
   for (uint64_t p = 0; p < pixels; ++p) {
-    if (row_begin[p + 1] < row_begin[p]) return false;
-  }
-  const uint32_t projector_pixels = static_cast<uint32_t>(optics_.rig().projector.lens.width) *
-                                    static_cast<uint32_t>(optics_.rig().projector.lens.height);
-  for (uint32_t j : index) {
+    if (row_begin[p + 1] < row_begin[p] || first_index[p] >= projector_pixels ||
+        !std::isfinite(weight_scale[p])) {
+      return false;
+    }
+    uint64_t j = first_index[p];
+    for (int64_t e = row_begin[p]; e < row_begin[p + 1]; ++e) j += packed[e].step;
     if (j >= projector_pixels) return false;
   }
   row_begin_ = std::move(row_begin);
-  index_ = std::move(index);
-  weight_ = std::move(weight);
+  first_index_ = std::move(first_index);
+  weight_scale_ = std::move(weight_scale);
+  packed_ = std::move(packed);
   control_ = std::move(control);
   // The entry was used: it is the most recently used one when the folder is trimmed.
   std::error_code error;
@@ -354,16 +406,17 @@ bool ForwardModel::LoadCached(const std::string& path, const std::string& key) {
 
 void ForwardModel::SaveCached(const std::string& path, const std::string& key) const {
   const uint32_t version = kTransportVersion, key_size = static_cast<uint32_t>(key.size());
-  const uint64_t pixels = row_begin_.size() - 1, entries = index_.size();
-  const uint64_t bytes = 8 + 4 + 4 + key.size() + 16 + row_begin_.size() * 8 + entries * 8 +
-                         control_.size() * 4 + 8;
+  const uint64_t pixels = row_begin_.size() - 1, entries = packed_.size();
+  const uint64_t bytes = 8 + 4 + 4 + key.size() + 16 + row_begin_.size() * 8 + pixels * 8 +
+                         entries * sizeof(PackedEntry) + control_.size() * 4 + 8;
   if (bytes > options_.cache_max_bytes) return;
   auto raw = [](const auto& value) {
     return std::string_view(reinterpret_cast<const char*>(&value), sizeof(value));
   };
   const bool written = WriteCacheFile(
       path, {std::string_view(kTransportMagic, 8), raw(version), raw(key_size), key, raw(pixels),
-             raw(entries), Bytes(row_begin_), Bytes(index_), Bytes(weight_), Bytes(control_),
+             raw(entries), Bytes(row_begin_), Bytes(first_index_), Bytes(weight_scale_),
+             Bytes(packed_), Bytes(control_),
              std::string_view(kTransportEnd, 8)});
   if (written) TrimTransportCache(std::filesystem::path(path).parent_path(), options_.cache_max_bytes);
 }
@@ -432,8 +485,11 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   const size_t camera_pixels = static_cast<size_t>(width) * height;
   control_.assign(camera_pixels * kFootprintMoments, 0.0f);
 
-  std::vector<std::vector<Entry>> rows(height);
+  static_assert(sizeof(PackedEntry) == 4, "the cache file's layout and the products' bandwidth assume 4 bytes");
+  std::vector<std::vector<PackedEntry>> rows(height);
   const size_t pixels = static_cast<size_t>(width) * height;
+  first_index_.assign(pixels, 0);
+  weight_scale_.assign(pixels, 0.0f);
   std::vector<int64_t> count(pixels, 0);  // entries per camera pixel (each written by one thread)
   std::atomic<long> rows_done{0};
   ParallelFor(height, 2, [&](int64_t y0, int64_t y1) {
@@ -448,7 +504,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<std::pair<double, int>> probe_values(kProbes);
     std::vector<std::pair<Vec3, int64_t>> traced;  // a delta material's last trace per path
     for (int64_t y = y0; y < y1; ++y) {
-      std::vector<Entry>& row = rows[y];
+      std::vector<PackedEntry>& row = rows[y];
       for (int x = 0; x < width; ++x) {
         const int pixel = static_cast<int>(y) * width + x;
         if (!maps_.camera.Valid(pixel) || y % options_.row_stride != 0) continue;
@@ -582,8 +638,10 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             angles[m] = {theta_i, phi_i};
             ++m;
           }
-          material.EvalBatch(std::span<const Vec3>(w_in.data(), m),
-                             std::span<const Vec3>(w_out.data(), m), std::span<Rgb>(f.data(), m));
+          // Single precision inside where the material has it: ~1e-6 against this sum's ~5e-3.
+          material.EvalBatchSinglePrecision(std::span<const Vec3>(w_in.data(), m),
+                                            std::span<const Vec3>(w_out.data(), m),
+                                            std::span<Rgb>(f.data(), m));
           for (int i = 0; i < m; ++i) {
             double b[kFootprintMoments];
             FootprintBasis(w_in[i], b);
@@ -599,13 +657,32 @@ void ForwardModel::BuildTransport(const Brdf& material) {
         }
         // Merge repeated projector pixels, in sample order.
         SortByProjectorPixel(&entries, &sort_scratch, static_cast<uint32_t>(proj_w * proj_h));
-        const size_t begin_of_pixel = row.size();
+        size_t merged = 0;
         for (const Entry& e : entries) {
-          if (row.size() > begin_of_pixel && row.back().index == e.index) {
-            row.back().weight += e.weight;
+          if (merged > 0 && entries[merged - 1].index == e.index) {
+            entries[merged - 1].weight += e.weight;
           } else {
-            row.push_back(e);
+            entries[merged++] = e;
           }
+        }
+        entries.resize(merged);
+        // Pack (imaging.h): steps between projector pixels and weights in 1/32767 of the
+        // pixel's largest |weight|, rounded to nearest.
+        double largest = 0;
+        for (const Entry& e : entries) largest = std::max(largest, std::abs(static_cast<double>(e.weight)));
+        if (!(largest > 0)) continue;  // nothing reached the projector, or all cancelled exactly
+        const float scale = static_cast<float>(largest / 32767);
+        const double inverse_scale = 1.0 / scale;
+        const size_t begin_of_pixel = row.size();
+        uint32_t previous = entries[0].index;
+        first_index_[pixel] = previous;
+        weight_scale_[pixel] = scale;
+        for (const Entry& e : entries) {
+          uint32_t step = e.index - previous;
+          for (; step > 0xffffu; step -= 0xffffu) row.push_back({0xffffu, 0});
+          const long q = std::lround(e.weight * inverse_scale);
+          row.push_back({static_cast<uint16_t>(step), static_cast<int16_t>(std::clamp(q, -32767L, 32767L))});
+          previous = e.index;
         }
         count[pixel] = static_cast<int64_t>(row.size() - begin_of_pixel);
       }
@@ -616,14 +693,10 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   row_begin_.assign(pixels + 1, 0);
   size_t total = 0;
   for (const auto& row : rows) total += row.size();
-  index_.reserve(total);
-  weight_.reserve(total);
+  packed_.reserve(total);
   for (auto& row : rows) {
-    for (const Entry& e : row) {
-      index_.push_back(e.index);
-      weight_.push_back(e.weight);
-    }
-    std::vector<Entry>().swap(row);
+    packed_.insert(packed_.end(), row.begin(), row.end());
+    std::vector<PackedEntry>().swap(row);
   }
   int64_t offset = 0;
   for (size_t p = 0; p < pixels; ++p) {
@@ -631,7 +704,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     offset += count[p];
   }
   row_begin_[pixels] = offset;
-  ZBRDF_ASSERT(offset == static_cast<int64_t>(index_.size()), "transport bookkeeping");
+  ZBRDF_ASSERT(offset == static_cast<int64_t>(packed_.size()), "transport bookkeeping");
 }
 
 std::vector<float> ForwardModel::ProjectorRadiance(const Pattern& pattern) const {
@@ -685,10 +758,15 @@ std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
     for (int64_t p = p0; p < p1; ++p) {
       double sum = 0;
       for (int k = 0; k < kFootprintMoments; ++k) sum += control_[p * kFootprintMoments + k] * moments[k];
-      for (int64_t e = row_begin_[p]; e < row_begin_[p + 1]; ++e) {
-        sum += static_cast<double>(weight_[e]) * radiance[index_[e]];
+      // The entries' weights in units of the pixel's scale (imaging.h).
+      double units = 0;
+      uint32_t j = first_index_[p];
+      const PackedEntry* end = packed_.data() + row_begin_[p + 1];
+      for (const PackedEntry* e = packed_.data() + row_begin_[p]; e != end; ++e) {
+        j += e->step;
+        units += static_cast<double>(e->weight) * radiance[j];
       }
-      rate[p] = static_cast<float>(sum);
+      rate[p] = static_cast<float>(sum + weight_scale_[p] * units);
     }
   });
   return rate;

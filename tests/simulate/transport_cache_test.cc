@@ -56,9 +56,11 @@ TEST_F(TransportCacheTest, ACachedTransportRendersTheSameFramesBitForBit) {
   const ForwardModel reference(shared.optics, shared.maps, *material, uncached);
   const ForwardModel built(shared.optics, shared.maps, *material, Options());
   EXPECT_FALSE(built.from_cache());
-  ASSERT_EQ(Entries(dir_).size(), 1u);
+  // Constructed while `built` may still be writing the entry on its own thread: it waits for
+  // that write and loads it rather than building again.
   const ForwardModel loaded(shared.optics, shared.maps, *material, Options());
   EXPECT_TRUE(loaded.from_cache());
+  ASSERT_EQ(Entries(dir_).size(), 1u);
   EXPECT_EQ(loaded.transport_entries(), reference.transport_entries());
   const Pattern pattern = Gray(shared.rig);
   EXPECT_EQ(loaded.ElectronRate(pattern), reference.ElectronRate(pattern));
@@ -76,6 +78,7 @@ TEST_F(TransportCacheTest, EntriesAreKeyedByTheMaterialsValuesAndSeed) {
   seeded.seed = 2;
   const ForwardModel reseeded(shared.optics, shared.maps, *a, seeded);
   EXPECT_FALSE(reseeded.from_cache());
+  for (const ForwardModel* model : {&first, &other, &reseeded}) model->WaitForCacheWrite();
   EXPECT_EQ(Entries(dir_).size(), 3u);
 }
 
@@ -84,6 +87,7 @@ TEST_F(TransportCacheTest, DamagedEntriesAreRebuiltAndTheFolderIsTrimmed) {
   // Glossy materials: a Lambertian's transport has no entries to damage (simulate/imaging.h).
   const auto a = MakeBrdf("ggx:alpha=0.3,F0=0.5,kd=0.1");
   const ForwardModel built(shared.optics, shared.maps, *a, Options());
+  built.WaitForCacheWrite();
   ASSERT_EQ(Entries(dir_).size(), 1u);
   ASSERT_GT(built.transport_entries(), 0u);
   const fs::path entry = Entries(dir_)[0];
@@ -92,14 +96,16 @@ TEST_F(TransportCacheTest, DamagedEntriesAreRebuiltAndTheFolderIsTrimmed) {
   fs::resize_file(entry, size / 2);
   const ForwardModel after_truncation(shared.optics, shared.maps, *a, Options());
   EXPECT_FALSE(after_truncation.from_cache());
+  after_truncation.WaitForCacheWrite();
   EXPECT_EQ(fs::file_size(entry), size);
   // A projector index out of range (damage inside the file, the size intact): rebuilt, never
-  // used to index the pattern. The index array starts 8 (end mark) + 20 x pixels (control) +
-  // 8 x entries (weights and indices) bytes before the end.
+  // used to index the pattern. The first pixel's first projector index lies 8 (end mark) +
+  // 20 x pixels (control) + 4 x entries (steps and weights) + 4 x pixels (weight scales) +
+  // 4 x pixels (first indices) bytes before the end.
   {
     const uint64_t pixels = static_cast<uint64_t>(shared.rig.camera.width) * shared.rig.camera.height;
     std::fstream f(entry, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(static_cast<std::streamoff>(size - 8 - 20 * pixels - 8 * built.transport_entries()));
+    f.seekp(static_cast<std::streamoff>(size - 8 - 28 * pixels - 4 * built.transport_entries()));
     const uint32_t bad = 0xffffffffu;
     f.write(reinterpret_cast<const char*>(&bad), 4);
   }
@@ -111,9 +117,11 @@ TEST_F(TransportCacheTest, DamagedEntriesAreRebuiltAndTheFolderIsTrimmed) {
   const auto b = MakeBrdf("ggx:alpha=0.3,F0=0.5,kd=0.25");
   const ForwardModel tiny_cap(shared.optics, shared.maps, *b, Options(size / 2));
   EXPECT_FALSE(tiny_cap.from_cache());
+  tiny_cap.WaitForCacheWrite();
   EXPECT_EQ(Entries(dir_).size(), 1u);  // b was not written (too large for the cap)
   // A cap of one entry: writing a second trims the least recently used.
   const ForwardModel second(shared.optics, shared.maps, *b, Options(size + size / 2));
+  second.WaitForCacheWrite();
   EXPECT_EQ(Entries(dir_).size(), 1u);
   const ForwardModel b_again(shared.optics, shared.maps, *b, Options(size + size / 2));
   EXPECT_TRUE(b_again.from_cache());
