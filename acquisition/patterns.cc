@@ -201,27 +201,38 @@ void PatternSet::Compute(const CapturePlan& plan, const RigCalibration& c,
   index["zone_rad"] = {plan.theta_min_rad, plan.theta_max_rad};
   index["order"] = plan.order;
   index["lobes"] = nlohmann::json::array();
+  // Each lobe's PNG encoded and written on its own (two at a time on two cores: 50 full-size
+  // patterns took 0.56 s one after another), the index in lobe order afterwards.
+  std::vector<LobePatternInfo> infos(lobes);
+  ParallelFor(lobes, 1, [&](int64_t first, int64_t last) {
+    for (int64_t lobe = first; lobe < last; ++lobe) {
+      LobePatternInfo& info = infos[lobe];
+      info.name = plan.lobes[lobe].Name();
+      const int s = slot[lobe];
+      // s * Z = peak * output: the sample radiance per unit of Z.
+      info.radiance_per_unit_z =
+          s >= 0 && max_ratio[s] > 0 ? c.projector_peak_radiance / max_ratio[s] : 0.0;
+      info.quantization_error = ref2[lobe] > 0 ? std::sqrt(err2[lobe] / ref2[lobe]) : 0.0;
+      char file[64];
+      std::snprintf(file, sizeof(file), "lobe-%03d.png", static_cast<int>(lobe));
+      info.file = file;
+      cv::Mat image(height_, width_, bit_depth_ <= 8 ? CV_8UC1 : CV_16UC1);
+      for (int i = 0; i < pixels; ++i) {
+        if (bit_depth_ <= 8) {
+          image.at<uint8_t>(i / width_, i % width_) = static_cast<uint8_t>(levels[lobe][i]);
+        } else {
+          image.at<uint16_t>(i / width_, i % width_) = levels[lobe][i];
+        }
+      }
+      std::vector<uchar> png;
+      if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 3})) {
+        throw InputError("cannot encode pattern " + folder_ + "/" + file);
+      }
+      WriteFileAtomically(folder_ + "/" + file, std::string(png.begin(), png.end()));
+    }
+  });
   lobes_.clear();
-  for (int lobe = 0; lobe < lobes; ++lobe) {
-    LobePatternInfo info;
-    info.name = plan.lobes[lobe].Name();
-    const int s = slot[lobe];
-    // s * Z = peak * output: the sample radiance per unit of Z.
-    info.radiance_per_unit_z = s >= 0 && max_ratio[s] > 0 ? c.projector_peak_radiance / max_ratio[s] : 0.0;
-    info.quantization_error = ref2[lobe] > 0 ? std::sqrt(err2[lobe] / ref2[lobe]) : 0.0;
-    char file[64];
-    std::snprintf(file, sizeof(file), "lobe-%03d.png", lobe);
-    info.file = file;
-    cv::Mat image(height_, width_, bit_depth_ <= 8 ? CV_8UC1 : CV_16UC1);
-    for (int i = 0; i < pixels; ++i) {
-      if (bit_depth_ <= 8) image.at<uint8_t>(i / width_, i % width_) = static_cast<uint8_t>(levels[lobe][i]);
-      else image.at<uint16_t>(i / width_, i % width_) = levels[lobe][i];
-    }
-    std::vector<uchar> png;
-    if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 3})) {
-      throw InputError("cannot encode pattern " + folder_ + "/" + file);
-    }
-    WriteFileAtomically(folder_ + "/" + file, std::string(png.begin(), png.end()));
+  for (const LobePatternInfo& info : infos) {
     index["lobes"].push_back({{"name", info.name},
                               {"radiance_per_unit_z", info.radiance_per_unit_z},
                               {"quantization_error", info.quantization_error},
