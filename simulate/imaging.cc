@@ -370,7 +370,7 @@ bool ForwardModel::LoadCached(const std::string& path, const std::string& key) {
   std::vector<int64_t> row_begin(pixels + 1);
   std::vector<uint32_t> first_index(pixels);
   std::vector<float> weight_scale(pixels), control(pixels * kFootprintMoments);
-  std::vector<PackedEntry> packed(entries);
+  std::vector<TransportEntry> packed(entries);
   auto read = [&](auto& v) {
     return static_cast<bool>(in.read(reinterpret_cast<char*>(v.data()), v.size() * sizeof(v[0])));
   };
@@ -408,7 +408,7 @@ void ForwardModel::SaveCached(const std::string& path, const std::string& key) c
   const uint32_t version = kTransportVersion, key_size = static_cast<uint32_t>(key.size());
   const uint64_t pixels = row_begin_.size() - 1, entries = packed_.size();
   const uint64_t bytes = 8 + 4 + 4 + key.size() + 16 + row_begin_.size() * 8 + pixels * 8 +
-                         entries * sizeof(PackedEntry) + control_.size() * 4 + 8;
+                         entries * sizeof(TransportEntry) + control_.size() * 4 + 8;
   if (bytes > options_.cache_max_bytes) return;
   auto raw = [](const auto& value) {
     return std::string_view(reinterpret_cast<const char*>(&value), sizeof(value));
@@ -485,8 +485,8 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   const size_t camera_pixels = static_cast<size_t>(width) * height;
   control_.assign(camera_pixels * kFootprintMoments, 0.0f);
 
-  static_assert(sizeof(PackedEntry) == 4, "the cache file's layout and the products' bandwidth assume 4 bytes");
-  std::vector<std::vector<PackedEntry>> rows(height);
+  static_assert(sizeof(TransportEntry) == 4, "the cache file's layout and the products' bandwidth assume 4 bytes");
+  std::vector<std::vector<TransportEntry>> rows(height);
   const size_t pixels = static_cast<size_t>(width) * height;
   first_index_.assign(pixels, 0);
   weight_scale_.assign(pixels, 0.0f);
@@ -504,7 +504,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<std::pair<double, int>> probe_values(kProbes);
     std::vector<std::pair<Vec3, int64_t>> traced;  // a delta material's last trace per path
     for (int64_t y = y0; y < y1; ++y) {
-      std::vector<PackedEntry>& row = rows[y];
+      std::vector<TransportEntry>& row = rows[y];
       for (int x = 0; x < width; ++x) {
         const int pixel = static_cast<int>(y) * width + x;
         if (!maps_.camera.Valid(pixel) || y % options_.row_stride != 0) continue;
@@ -696,7 +696,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   packed_.reserve(total);
   for (auto& row : rows) {
     packed_.insert(packed_.end(), row.begin(), row.end());
-    std::vector<PackedEntry>().swap(row);
+    std::vector<TransportEntry>().swap(row);
   }
   int64_t offset = 0;
   for (size_t p = 0; p < pixels; ++p) {
@@ -758,15 +758,10 @@ std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
     for (int64_t p = p0; p < p1; ++p) {
       double sum = 0;
       for (int k = 0; k < kFootprintMoments; ++k) sum += control_[p * kFootprintMoments + k] * moments[k];
-      // The entries' weights in units of the pixel's scale (imaging.h).
-      double units = 0;
-      uint32_t j = first_index_[p];
-      const PackedEntry* end = packed_.data() + row_begin_[p + 1];
-      for (const PackedEntry* e = packed_.data() + row_begin_[p]; e != end; ++e) {
-        j += e->step;
-        units += static_cast<double>(e->weight) * radiance[j];
-      }
-      rate[p] = static_cast<float>(sum + weight_scale_[p] * units);
+      // The entries' weights are in units of the pixel's scale (imaging.h).
+      const std::span<const TransportEntry> row(packed_.data() + row_begin_[p],
+                                                static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
+      rate[p] = static_cast<float>(sum + weight_scale_[p] * RowProduct(row, first_index_[p], radiance.data()));
     }
   });
   return rate;

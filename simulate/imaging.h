@@ -36,6 +36,7 @@
 #include "drivers/projector.h"
 #include "rig/direction_maps.h"
 #include "rig/optics.h"
+#include "simulate/transport_row.h"
 
 namespace zbrdf {
 
@@ -128,14 +129,10 @@ class ForwardModel {
   // chosen so that the pixel's largest |weight| is 32767. The rounding (at most 1.5e-5 of the
   // pixel's largest entry) changes a frame by 7e-6 RMS relative for merl:blue-acrylic, under
   // 1/500 of its Monte Carlo error (docs/simulator.md, "Transport storage").
-  struct PackedEntry {
-    uint16_t step;   // projector pixels from the previous entry's
-    int16_t weight;  // in units of weight_scale_[p]
-  };
   std::vector<int64_t> row_begin_;     // camera pixel -> first entry (size pixels + 1)
   std::vector<uint32_t> first_index_;  // camera pixel -> projector pixel its steps start from
   std::vector<float> weight_scale_;    // camera pixel -> electrons/s per radiance per unit weight
-  std::vector<PackedEntry> packed_;
+  std::vector<TransportEntry> packed_;
   // Per camera pixel, kFootprintMoments control-variate coefficients times the pixel's constant.
   std::vector<float> control_;
   double build_seconds_ = 0;

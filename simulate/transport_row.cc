@@ -1,0 +1,88 @@
+#include "simulate/transport_row.h"
+
+#include <cstdint>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define ZBRDF_ROW_PRODUCT_AVX2 1
+#endif
+
+namespace zbrdf {
+
+static_assert(sizeof(TransportEntry) == 4, "a row is read as 32-bit lanes: step low, weight high");
+
+double RowProductScalar(std::span<const TransportEntry> row, uint32_t first, const float* radiance) {
+  double sum = 0;
+  uint32_t j = first;
+  for (const TransportEntry& e : row) {
+    j += e.step;
+    sum += static_cast<double>(static_cast<float>(e.weight) * radiance[j]);
+  }
+  return sum;
+}
+
+#ifdef ZBRDF_ROW_PRODUCT_AVX2
+namespace {
+
+// Eight entries per step: their projector pixels by a prefix sum of the steps across the lanes,
+// the radiances by one gather, the products in float, the sums in two registers of 4 doubles.
+// A full-resolution frame's product (92 M entries, 2 cores): 60 ms one entry at a time, 52 ms
+// with gathers, 45 ms with the prefetch below; without the gathers at all it would be 44 ms,
+// so what is left is reading the entries.
+__attribute__((target("avx2"))) double RowProductAvx2(std::span<const TransportEntry> row,
+                                                      uint32_t first, const float* radiance) {
+  const size_t n = row.size(), whole = n - n % 8;
+  __m256d sum_low = _mm256_setzero_pd(), sum_high = _mm256_setzero_pd();
+  __m256i base = _mm256_set1_epi32(static_cast<int>(first));  // the previous entry's pixel
+  const __m256i step_mask = _mm256_set1_epi32(0xffff);
+  const __m256i lane3 = _mm256_setr_epi32(0, 0, 0, 0, 3, 3, 3, 3);
+  const __m256i lane7 = _mm256_set1_epi32(7);
+  for (size_t e = 0; e < whole; e += 8) {
+    __m256i lanes;
+    static_assert(sizeof(lanes) == 8 * sizeof(TransportEntry));
+    // 2 kB ahead (a prefetch never faults, past the row's end included): the entries are one
+    // stream, and the hardware's prefetch alone left a core at ~4 GB/s (a full-resolution
+    // product 52 -> 45 ms).
+    _mm_prefetch(reinterpret_cast<const char*>(reinterpret_cast<uintptr_t>(row.data() + e) + 2048),
+                 _MM_HINT_T0);
+    lanes = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row.data() + e));
+    __m256i steps = _mm256_and_si256(lanes, step_mask);
+    const __m256i weights = _mm256_srai_epi32(lanes, 16);  // sign-extended
+    // Inclusive prefix sum: within each 128-bit half, then the low half's total into the high.
+    steps = _mm256_add_epi32(steps, _mm256_slli_si256(steps, 4));
+    steps = _mm256_add_epi32(steps, _mm256_slli_si256(steps, 8));
+    steps = _mm256_add_epi32(
+        steps, _mm256_blend_epi32(_mm256_setzero_si256(), _mm256_permutevar8x32_epi32(steps, lane3), 0xf0));
+    const __m256i pixels = _mm256_add_epi32(base, steps);
+    base = _mm256_permutevar8x32_epi32(pixels, lane7);
+    const __m256 products =
+        _mm256_mul_ps(_mm256_cvtepi32_ps(weights), _mm256_i32gather_ps(radiance, pixels, 4));
+    sum_low = _mm256_add_pd(sum_low, _mm256_cvtps_pd(_mm256_castps256_ps128(products)));
+    sum_high = _mm256_add_pd(sum_high, _mm256_cvtps_pd(_mm256_extractf128_ps(products, 1)));
+  }
+  alignas(32) double partial[4];
+  _mm256_store_pd(partial, _mm256_add_pd(sum_low, sum_high));
+  const uint32_t last = static_cast<uint32_t>(_mm_cvtsi128_si32(_mm256_castsi256_si128(base)));
+  return (partial[0] + partial[1]) + (partial[2] + partial[3]) +
+         RowProductScalar(row.subspan(whole), last, radiance);
+}
+
+bool HaveAvx2() {
+  static const bool have = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return have;
+}
+
+}  // namespace
+#endif
+
+double RowProduct(std::span<const TransportEntry> row, uint32_t first, const float* radiance) {
+#ifdef ZBRDF_ROW_PRODUCT_AVX2
+  if (HaveAvx2()) return RowProductAvx2(row, first, radiance);
+#endif
+  return RowProductScalar(row, first, radiance);
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,26 @@
+// One camera pixel's row of the light transport, packed in 4 bytes per entry, and its product
+// with a pattern's projector radiance: the inner loop of every simulated frame
+// (docs/simulator.md, "Transport storage").
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+namespace zbrdf {
+
+// A transport entry: its projector pixel as a step from the previous entry's (the first entry's
+// from the row's first index), and its weight in units of the row's scale.
+struct TransportEntry {
+  uint16_t step;
+  int16_t weight;
+};
+
+// sum over the row of weight * radiance[j], j = first + the steps up to and including the
+// entry's: each product rounded to float (exact for the weight, which has 16 bits), summed in
+// double. With AVX2 (chosen when the program starts) 8 entries at a time, by gathers; the sum
+// differs from RowProductScalar's, the same one entry at a time, by rounding only. Every j must
+// index radiance (ForwardModel checks a row's steps when it loads them from a file).
+double RowProduct(std::span<const TransportEntry> row, uint32_t first, const float* radiance);
+double RowProductScalar(std::span<const TransportEntry> row, uint32_t first, const float* radiance);
+
+}  // namespace zbrdf

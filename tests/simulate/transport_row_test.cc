@@ -1,0 +1,104 @@
+#include "simulate/transport_row.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "simulate/imaging.h"
+
+namespace zbrdf {
+namespace {
+namespace ZBRDF_TEST_FILE_ID {
+
+// A row and a radiance image from SplitMix64 words (fixed seed): steps of every size (0, small,
+// up to 65535), weights over the whole int16 range, radiances with zeros among them.
+struct RandomRow {
+  std::vector<TransportEntry> row;
+  std::vector<float> radiance;
+  uint32_t first = 0;
+};
+
+RandomRow MakeRow(uint64_t seed, size_t entries) {
+  RandomRow r;
+  uint64_t state = seed;
+  auto word = [&state] { return state = HashMix(state); };
+  r.first = static_cast<uint32_t>(word() % 5000);
+  uint32_t j = r.first;
+  for (size_t e = 0; e < entries; ++e) {
+    const uint64_t w = word();
+    uint16_t step = static_cast<uint16_t>(w % 300);
+    if (w % 7 == 0) step = 0;              // as every row's first entry has
+    if (w % 97 == 1) step = 0xffff;        // the largest step
+    const int16_t weight = static_cast<int16_t>(static_cast<int>((w >> 20) % 65535) - 32767);
+    r.row.push_back({step, weight});
+    j += step;
+  }
+  r.radiance.resize(j + 1);
+  for (float& value : r.radiance) {
+    const uint64_t w = word();
+    value = w % 5 == 0 ? 0.0f : static_cast<float>(UniformFromHash(w) * 1e3);
+  }
+  return r;
+}
+
+// The exact sum: a 16-bit weight times a 24-bit float is exact in double, and the long double
+// sum of a few thousand such products is far more precise than the tolerance below.
+long double ExactProduct(const RandomRow& r, long double* magnitude) {
+  long double sum = 0;
+  *magnitude = 0;
+  uint32_t j = r.first;
+  for (const TransportEntry& e : r.row) {
+    j += e.step;
+    const long double p = static_cast<long double>(e.weight) * r.radiance[j];
+    sum += p;
+    *magnitude += std::abs(p);
+  }
+  return sum;
+}
+
+TEST(TransportRowTest, ProductsAreTheExactSumToFloatRounding) {
+  // Every length from 0 to 40 (the 8-entry steps and every tail), and long rows.
+  std::vector<size_t> lengths;
+  for (size_t n = 0; n <= 40; ++n) lengths.push_back(n);
+  for (size_t n : {255, 256, 257, 4000}) lengths.push_back(n);
+  uint64_t seed = 17;
+  for (size_t n : lengths) {
+    for (int trial = 0; trial < 5; ++trial) {
+      const RandomRow r = MakeRow(++seed, n);
+      long double magnitude = 0;
+      const long double exact = ExactProduct(r, &magnitude);
+      // Each product rounded to float (half an ulp, 2^-24 relative), then n double additions:
+      // |error| <= (2^-24 + n 2^-53) sum |w r|.
+      const double bound = (0x1.0p-24 + n * 0x1.0p-53) * static_cast<double>(magnitude);
+      const double fast = RowProduct(r.row, r.first, r.radiance.data());
+      const double scalar = RowProductScalar(r.row, r.first, r.radiance.data());
+      ASSERT_LE(std::abs(fast - static_cast<double>(exact)), bound) << n << " entries, trial " << trial;
+      ASSERT_LE(std::abs(scalar - static_cast<double>(exact)), bound) << n << " entries, trial " << trial;
+    }
+  }
+}
+
+TEST(TransportRowTest, EveryEntryReachesItsOwnPixel) {
+  // One radiance of 1 at a time, every other 0: the product picks out exactly the weights of
+  // the entries that land there (a lane-ordering or prefix-sum mistake moves them elsewhere).
+  const RandomRow r = MakeRow(99, 37);
+  std::vector<float> radiance(r.radiance.size(), 0.0f);
+  std::vector<double> expected(radiance.size(), 0.0);
+  uint32_t j = r.first;
+  for (const TransportEntry& e : r.row) {
+    j += e.step;
+    expected[j] += e.weight;
+  }
+  for (size_t pixel = 0; pixel < radiance.size(); ++pixel) {
+    if (expected[pixel] == 0 && pixel % 50 != 0) continue;  // every hit pixel and some misses
+    radiance[pixel] = 1.0f;
+    EXPECT_EQ(RowProduct(r.row, r.first, radiance.data()), expected[pixel]) << pixel;
+    radiance[pixel] = 0.0f;
+  }
+}
+
+}  // namespace ZBRDF_TEST_FILE_ID
+}  // namespace
+}  // namespace zbrdf
