@@ -87,10 +87,7 @@ void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
   }
 }
 
-struct Entry {
-  uint32_t index;
-  float weight;
-};
+using Entry = TransportSample;
 
 // Sorts a pixel's entries by projector pixel, equal pixels in their original (sample) order: a
 // least-significant-digit radix sort, two passes of 12 bits, for projectors of up to 2^24
@@ -666,24 +663,12 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           }
         }
         entries.resize(merged);
-        // Pack (imaging.h): steps between projector pixels and weights in 1/32767 of the
-        // pixel's largest |weight|, rounded to nearest.
-        double largest = 0;
-        for (const Entry& e : entries) largest = std::max(largest, std::abs(static_cast<double>(e.weight)));
-        if (!(largest > 0)) continue;  // nothing reached the projector, or all cancelled exactly
-        const float scale = static_cast<float>(largest / 32767);
-        const double inverse_scale = 1.0 / scale;
+        // Pack (imaging.h): steps between projector pixels, weights in 1/32767 of the pixel's
+        // largest |weight|.
         const size_t begin_of_pixel = row.size();
-        uint32_t previous = entries[0].index;
-        first_index_[pixel] = previous;
-        weight_scale_[pixel] = scale;
-        for (const Entry& e : entries) {
-          uint32_t step = e.index - previous;
-          for (; step > 0xffffu; step -= 0xffffu) row.push_back({0xffffu, 0});
-          const long q = std::lround(e.weight * inverse_scale);
-          row.push_back({static_cast<uint16_t>(step), static_cast<int16_t>(std::clamp(q, -32767L, 32767L))});
-          previous = e.index;
-        }
+        const PackedRowStart start = AppendPackedRow(entries, &row);
+        first_index_[pixel] = start.first_index;
+        weight_scale_[pixel] = start.scale;
         count[pixel] = static_cast<int64_t>(row.size() - begin_of_pixel);
       }
       Report(options_.progress, {"transport", ++rows_done, height, "rows"});

@@ -1,5 +1,7 @@
 #include "simulate/transport_row.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -10,6 +12,29 @@
 namespace zbrdf {
 
 static_assert(sizeof(TransportEntry) == 4, "a row is read as 32-bit lanes: step low, weight high");
+
+PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
+                               std::vector<TransportEntry>* row) {
+  double largest = 0;
+  for (const TransportSample& e : samples) {
+    largest = std::max(largest, std::abs(static_cast<double>(e.weight)));
+  }
+  if (!(largest > 0)) return {};
+  PackedRowStart start;
+  start.first_index = samples.front().index;
+  start.scale = static_cast<float>(largest / 32767);
+  const double inverse_scale = 1.0 / start.scale;
+  uint32_t previous = start.first_index;
+  for (const TransportSample& e : samples) {
+    uint32_t step = e.index - previous;
+    for (; step > 0xffffu; step -= 0xffffu) row->push_back({0xffffu, 0});
+    // |q| <= 32767 up to the scale's rounding to float.
+    const long q = std::clamp(std::lround(e.weight * inverse_scale), -32767L, 32767L);
+    row->push_back({static_cast<uint16_t>(step), static_cast<int16_t>(q)});
+    previous = e.index;
+  }
+  return start;
+}
 
 double RowProductScalar(std::span<const TransportEntry> row, uint32_t first, const float* radiance) {
   double sum = 0;

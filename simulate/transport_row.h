@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace zbrdf {
 
@@ -14,6 +15,24 @@ struct TransportEntry {
   uint16_t step;
   int16_t weight;
 };
+
+// A sample's contribution before packing: projector pixel and weight.
+struct TransportSample {
+  uint32_t index;
+  float weight;
+};
+
+// Packs one camera pixel's samples, in ascending projector pixel without repeats, onto the end of
+// *row: steps from the previous pixel (the first from the returned first index; a gap beyond
+// 65535 takes zero-weight steps of 65535) and weights rounded to nearest in units of the returned
+// scale, chosen so that the largest |weight| is 32767 (the rounding is at most scale / 2). With
+// no samples, or only zero weights, nothing is appended and the scale is 0.
+struct PackedRowStart {
+  uint32_t first_index = 0;
+  float scale = 0;
+};
+PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
+                               std::vector<TransportEntry>* row);
 
 // sum over the row of weight * radiance[j], j = first + the steps up to and including the
 // entry's: each product rounded to float (exact for the weight, which has 16 bits), summed in

@@ -99,6 +99,35 @@ TEST(TransportRowTest, EveryEntryReachesItsOwnPixel) {
   }
 }
 
+TEST(TransportRowTest, PackingKeepsPixelsAndWeightsAcrossLargeGaps) {
+  // Gaps of 0 (the first), small, exactly 65535, one beyond (one zero-weight step), and 229999
+  // (three zero-weight steps of 65535, then 33394); weights of both signs over 5 decades.
+  const std::vector<TransportSample> samples = {{7, 2.5f},         {12, -0.001f},    {65547, 40.0f},
+                                                {131083, 3e-4f},   {361082, -17.0f}, {361083, 0.25f}};
+  std::vector<TransportEntry> row = {{3, 99}};  // appended after what is there
+  const PackedRowStart start = AppendPackedRow(samples, &row);
+  EXPECT_EQ(start.first_index, 7u);
+  EXPECT_FLOAT_EQ(start.scale, 40.0f / 32767);
+  ASSERT_EQ(row.size(), 1u + samples.size() + 1 + 3);
+  const std::span<const TransportEntry> packed(row.data() + 1, row.size() - 1);
+  std::vector<float> radiance(samples.back().index + 1, 0.0f);
+  for (const TransportSample& s : samples) {
+    // Each pixel alone: its weight comes back to within half a unit of the scale.
+    radiance[s.index] = 1.0f;
+    EXPECT_NEAR(start.scale * RowProduct(packed, start.first_index, radiance.data()), s.weight,
+                0.5 * start.scale)
+        << s.index;
+    radiance[s.index] = 0.0f;
+  }
+  // The largest weight is exactly 32767 units.
+  EXPECT_EQ(row[3].weight, 32767);
+  // Nothing to pack: nothing appended, scale 0.
+  EXPECT_EQ(AppendPackedRow({}, &row).scale, 0.0f);
+  const std::vector<TransportSample> zeros = {{4, 0.0f}, {9, 0.0f}};
+  EXPECT_EQ(AppendPackedRow(zeros, &row).scale, 0.0f);
+  EXPECT_EQ(row.size(), 1u + samples.size() + 1 + 3);
+}
+
 }  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
