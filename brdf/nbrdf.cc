@@ -5,10 +5,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <map>
-#include <type_traits>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <type_traits>
 
 #include "basis/data_path.h"
 #include "basis/error.h"
@@ -156,8 +156,10 @@ template <typename T, int kWidth>
       // Three neurons at a time: 12 accumulators (doubles), an input and three weights fill
       // AVX2's 16 registers.
       int j = 0;
-      for (; j + 3 <= out_count; j += 3) DenseNeurons<T, kWidth, 3>(in, w_t, bias, src, dst, stride, k0, j, relu);
-      for (; j < out_count; ++j) DenseNeurons<T, kWidth, 1>(in, w_t, bias, src, dst, stride, k0, j, relu);
+      for (; j + 3 <= out_count; j += 3)
+        DenseNeurons<T, kWidth, 3>(in, w_t, bias, src, dst, stride, k0, j, relu);
+      for (; j < out_count; ++j)
+        DenseNeurons<T, kWidth, 1>(in, w_t, bias, src, dst, stride, k0, j, relu);
     } else {
       for (int j = 0; j < out_count; ++j) {
         const T* w = w_t + static_cast<size_t>(j) * in;

@@ -258,7 +258,8 @@ ForwardModel::ForwardModel(const OpticalSystem& optics, const RigMaps& maps, con
     if (use_cache) {
       // The transport is not changed after this: the write reads it while frames are rendered.
       cache_path_ = path;
-      cache_write_ = std::async(std::launch::async, [this, path, key] { SaveCached(path, key); }).share();
+      cache_write_ =
+          std::async(std::launch::async, [this, path, key] { SaveCached(path, key); }).share();
       std::lock_guard<std::mutex> lock(PendingTransportWritesMutex());
       PendingTransportWrites()[path] = cache_write_;
     }
@@ -272,8 +273,8 @@ ForwardModel::~ForwardModel() {
     std::lock_guard<std::mutex> lock(PendingTransportWritesMutex());
     const auto it = PendingTransportWrites().find(cache_path_);
     // Another model may have registered a newer write of the same entry since.
-    if (it != PendingTransportWrites().end() && it->second.wait_for(std::chrono::seconds(0)) ==
-                                                    std::future_status::ready) {
+    if (it != PendingTransportWrites().end() &&
+        it->second.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       PendingTransportWrites().erase(it);
     }
   }
@@ -413,8 +414,7 @@ void ForwardModel::SaveCached(const std::string& path, const std::string& key) c
   const bool written = WriteCacheFile(
       path, {std::string_view(kTransportMagic, 8), raw(version), raw(key_size), key, raw(pixels),
              raw(entries), Bytes(row_begin_), Bytes(first_index_), Bytes(weight_scale_),
-             Bytes(packed_), Bytes(control_),
-             std::string_view(kTransportEnd, 8)});
+             Bytes(packed_), Bytes(control_), std::string_view(kTransportEnd, 8)});
   if (written) TrimTransportCache(std::filesystem::path(path).parent_path(), options_.cache_max_bytes);
 }
 
@@ -482,7 +482,8 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   const size_t camera_pixels = static_cast<size_t>(width) * height;
   control_.assign(camera_pixels * kFootprintMoments, 0.0f);
 
-  static_assert(sizeof(TransportEntry) == 4, "the cache file's layout and the products' bandwidth assume 4 bytes");
+  static_assert(sizeof(TransportEntry) == 4,
+                "the cache file's layout and the products' bandwidth assume 4 bytes");
   std::vector<std::vector<TransportEntry>> rows(height);
   const size_t pixels = static_cast<size_t>(width) * height;
   first_index_.assign(pixels, 0);
@@ -744,9 +745,10 @@ std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
       double sum = 0;
       for (int k = 0; k < kFootprintMoments; ++k) sum += control_[p * kFootprintMoments + k] * moments[k];
       // The entries' weights are in units of the pixel's scale (imaging.h).
-      const std::span<const TransportEntry> row(packed_.data() + row_begin_[p],
-                                                static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
-      rate[p] = static_cast<float>(sum + weight_scale_[p] * RowProduct(row, first_index_[p], radiance.data()));
+      const std::span<const TransportEntry> row(
+          packed_.data() + row_begin_[p], static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
+      rate[p] = static_cast<float>(sum + weight_scale_[p] *
+                                             RowProduct(row, first_index_[p], radiance.data()));
     }
   });
   return rate;

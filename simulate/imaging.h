@@ -137,7 +137,7 @@ class ForwardModel {
   std::vector<float> control_;
   double build_seconds_ = 0;
   bool from_cache_ = false;
-  std::string cache_path_;             // the cache entry being written, if any
+  std::string cache_path_;                // the cache entry being written, if any
   std::shared_future<void> cache_write_;  // SaveCached on its own thread
 };
 

@@ -36,7 +36,8 @@ PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
   return start;
 }
 
-double RowProductScalar(std::span<const TransportEntry> row, uint32_t first, const float* radiance) {
+double RowProductScalar(std::span<const TransportEntry> row, uint32_t first,
+                        const float* radiance) {
   double sum = 0;
   uint32_t j = first;
   for (const TransportEntry& e : row) {
@@ -77,7 +78,8 @@ __attribute__((target("avx2"))) double RowProductAvx2(std::span<const TransportE
     steps = _mm256_add_epi32(steps, _mm256_slli_si256(steps, 4));
     steps = _mm256_add_epi32(steps, _mm256_slli_si256(steps, 8));
     steps = _mm256_add_epi32(
-        steps, _mm256_blend_epi32(_mm256_setzero_si256(), _mm256_permutevar8x32_epi32(steps, lane3), 0xf0));
+        steps, _mm256_blend_epi32(_mm256_setzero_si256(), _mm256_permutevar8x32_epi32(steps, lane3),
+                                  0xf0));
     const __m256i pixels = _mm256_add_epi32(base, steps);
     base = _mm256_permutevar8x32_epi32(pixels, lane7);
     const __m256 products =

@@ -29,8 +29,8 @@ RandomRow MakeRow(uint64_t seed, size_t entries) {
   for (size_t e = 0; e < entries; ++e) {
     const uint64_t w = word();
     uint16_t step = static_cast<uint16_t>(w % 300);
-    if (w % 7 == 0) step = 0;              // as every row's first entry has
-    if (w % 97 == 1) step = 0xffff;        // the largest step
+    if (w % 7 == 0) step = 0;        // as every row's first entry has
+    if (w % 97 == 1) step = 0xffff;  // the largest step
     const int16_t weight = static_cast<int16_t>(static_cast<int>((w >> 20) % 65535) - 32767);
     r.row.push_back({step, weight});
     j += step;
@@ -74,8 +74,10 @@ TEST(TransportRowTest, ProductsAreTheExactSumToFloatRounding) {
       const double bound = (0x1.0p-24 + n * 0x1.0p-53) * static_cast<double>(magnitude);
       const double fast = RowProduct(r.row, r.first, r.radiance.data());
       const double scalar = RowProductScalar(r.row, r.first, r.radiance.data());
-      ASSERT_LE(std::abs(fast - static_cast<double>(exact)), bound) << n << " entries, trial " << trial;
-      ASSERT_LE(std::abs(scalar - static_cast<double>(exact)), bound) << n << " entries, trial " << trial;
+      ASSERT_LE(std::abs(fast - static_cast<double>(exact)), bound)
+          << n << " entries, trial " << trial;
+      ASSERT_LE(std::abs(scalar - static_cast<double>(exact)), bound)
+          << n << " entries, trial " << trial;
     }
   }
 }
@@ -102,8 +104,8 @@ TEST(TransportRowTest, EveryEntryReachesItsOwnPixel) {
 TEST(TransportRowTest, PackingKeepsPixelsAndWeightsAcrossLargeGaps) {
   // Gaps of 0 (the first), small, exactly 65535, one beyond (one zero-weight step), and 229999
   // (three zero-weight steps of 65535, then 33394); weights of both signs over 5 decades.
-  const std::vector<TransportSample> samples = {{7, 2.5f},         {12, -0.001f},    {65547, 40.0f},
-                                                {131083, 3e-4f},   {361082, -17.0f}, {361083, 0.25f}};
+  const std::vector<TransportSample> samples = {{7, 2.5f},       {12, -0.001f},    {65547, 40.0f},
+                                                {131083, 3e-4f}, {361082, -17.0f}, {361083, 0.25f}};
   std::vector<TransportEntry> row = {{3, 99}};  // appended after what is there
   const PackedRowStart start = AppendPackedRow(samples, &row);
   EXPECT_EQ(start.first_index, 7u);
