@@ -64,25 +64,17 @@ void BM_Eval(benchmark::State& state, const char* spec) {
   SetPerPair(state);
 }
 
-void BM_EvalBatch(benchmark::State& state, const char* spec) {
+// single_precision: EvalBatchSinglePrecision, the simulator's evaluation.
+void BM_EvalBatch(benchmark::State& state, const char* spec, bool single_precision = false) {
   const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
   const Pairs& pairs = RandomPairs();
   std::vector<Rgb> f(kPairs);
   for (auto _ : state) {
-    brdf->EvalBatch(pairs.w_i, pairs.w_o, f);
-    benchmark::DoNotOptimize(f.data());
-    benchmark::ClobberMemory();
-  }
-  SetPerPair(state);
-}
-
-// The simulator's evaluation (single precision inside).
-void BM_EvalBatchSinglePrecision(benchmark::State& state, const char* spec) {
-  const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
-  const Pairs& pairs = RandomPairs();
-  std::vector<Rgb> f(kPairs);
-  for (auto _ : state) {
-    brdf->EvalBatchSinglePrecision(pairs.w_i, pairs.w_o, f);
+    if (single_precision) {
+      brdf->EvalBatchSinglePrecision(pairs.w_i, pairs.w_o, f);
+    } else {
+      brdf->EvalBatch(pairs.w_i, pairs.w_o, f);
+    }
     benchmark::DoNotOptimize(f.data());
     benchmark::ClobberMemory();
   }
@@ -111,7 +103,7 @@ BENCHMARK_CAPTURE(BM_EvalBatch, ggx, "ggx:alpha_x=0.2,alpha_y=0.3,F0=0.04,kd=0.1
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Eval, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EvalBatch, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EvalBatchSinglePrecision, nbrdf_chrome, "merl:chrome")
+BENCHMARK_CAPTURE(BM_EvalBatch, nbrdf_chrome_single_precision, "merl:chrome", true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SampleAndEval, ggx, "ggx:alpha_x=0.2,alpha_y=0.3,F0=0.04,kd=0.1")
     ->Unit(benchmark::kMillisecond);
