@@ -208,7 +208,7 @@ class Coverage {
   double step_;
   int n_phi_;
   std::vector<double> lo_, hi_;
-  // Per column sin^2(lo) and sin^2(hi) - sin^2(lo): three sines fewer per sample.
+  // Per column sin^2(lo) and sin^2(hi) - sin^2(lo), once, instead of their sines per sample.
   std::vector<double> sin2_lo_, sin2_span_;
   std::optional<Distribution1D> columns_;  // weights: the columns' projected solid angles
   double inverse_projected_solid_angle_ = 0;
