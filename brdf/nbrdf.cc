@@ -96,13 +96,6 @@ inline bool NetworkInput(const Vec3& w_i, const Vec3& w_o, T* x, int stride) {
   return true;
 }
 
-// dst[j][k] = act(b[j] + sum_i w_t[j][i] src[i][k]) for the pairs k < tiles * kWidth, with
-// rows `stride` apart and in inputs, summed in the same order (i ascending, from the bias) for
-// every kWidth and kOuts, so every version rounds alike. For kWidth a multiple of the lanes of a
-// 32-byte vector (4 doubles, 8 floats) the accumulators are GCC vectors kept in registers (two
-// SSE2 registers each on any x86-64, one AVX2 register in the AVX2 versions below), for kOuts
-// neurons at once: each load of an input row serves kOuts neurons instead of one (the loads,
-// not the arithmetic, bounded the one-neuron loop).
 // 32 bytes of T as one GCC vector (spelled per type: GCC ignores vector_size on a dependent type).
 template <typename T>
 struct Vector32;
@@ -115,6 +108,13 @@ struct Vector32<float> {
   typedef float type __attribute__((vector_size(32)));
 };
 
+// dst[j][k] = act(b[j] + sum_i w_t[j][i] src[i][k]) for the pairs k < tiles * kWidth, with
+// rows `stride` apart and in inputs, summed in the same order (i ascending, from the bias) for
+// every kWidth and kOuts, so every version rounds alike. For kWidth a multiple of the lanes of a
+// 32-byte vector (4 doubles, 8 floats) the accumulators are GCC vectors kept in registers (two
+// SSE2 registers each on any x86-64, one AVX2 register in the AVX2 versions below), for kOuts
+// neurons at once: each load of an input row serves kOuts neurons instead of one (the loads,
+// not the arithmetic, bounded the one-neuron loop).
 template <typename T, int kWidth, int kOuts>
 [[gnu::always_inline]] inline void DenseNeurons(int in, const T* w_t, const T* bias, const T* src,
                                                 T* dst, int stride, int k0, int j0, bool relu) {
@@ -191,13 +191,15 @@ LayerWeights<T> Transposed(const NbrdfNetwork::Layer& layer) {
   return t;
 }
 
-template <typename T>
+// The network's three layers (ReLU, ReLU, linear) on tiles of kWidth pairs, rows `stride` apart.
+template <typename T, int kWidth>
 [[gnu::always_inline]] inline void ThreeLayers(const std::array<LayerWeights<T>, 3>& layers,
-                                               const T* x, T* a1, T* a2, T* y, int tiles) {
+                                               const T* x, T* a1, T* a2, T* y, int stride,
+                                               int tiles) {
   const auto& [l1, l2, l3] = layers;
-  Dense<T, kTile>(l1.in, l1.out, l1.w_t.data(), l1.bias.data(), x, a1, kBlock, tiles, true);
-  Dense<T, kTile>(l2.in, l2.out, l2.w_t.data(), l2.bias.data(), a1, a2, kBlock, tiles, true);
-  Dense<T, kTile>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, kBlock, tiles, false);
+  Dense<T, kWidth>(l1.in, l1.out, l1.w_t.data(), l1.bias.data(), x, a1, stride, tiles, true);
+  Dense<T, kWidth>(l2.in, l2.out, l2.w_t.data(), l2.bias.data(), a1, a2, stride, tiles, true);
+  Dense<T, kWidth>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, stride, tiles, false);
 }
 
 // The three layers of a block. Compiled twice, for x86-64 (SSE2) and for AVX2, and the version
@@ -208,7 +210,7 @@ __attribute__((target_clones("avx2", "default")))
 #endif
 void EvaluateLayers(const std::array<LayerWeights<double>, 3>& layers, const double* x,
                     double* a1, double* a2, double* y, int tiles) {
-  ThreeLayers(layers, x, a1, a2, y, tiles);
+  ThreeLayers<double, kTile>(layers, x, a1, a2, y, kBlock, tiles);
 }
 
 // The same in single precision (EvalBatchSinglePrecision): 8 pairs per AVX2 register.
@@ -217,7 +219,7 @@ __attribute__((target_clones("avx2", "default")))
 #endif
 void EvaluateLayersFloat(const std::array<LayerWeights<float>, 3>& layers, const float* x,
                          float* a1, float* a2, float* y, int tiles) {
-  ThreeLayers(layers, x, a1, a2, y, tiles);
+  ThreeLayers<float, kTile>(layers, x, a1, a2, y, kBlock, tiles);
 }
 
 }  // namespace
@@ -394,10 +396,7 @@ Rgb NbrdfBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
   double x[kInputs];
   if (!NetworkInput(w_i, w_o, x, 1)) return {};
   double a1[kMaxHidden], a2[kMaxHidden], y[kOutputs];
-  const auto& [l1, l2, l3] = weights_;
-  Dense<double, 1>(l1.in, l1.out, l1.w_t.data(), l1.bias.data(), x, a1, 1, 1, true);
-  Dense<double, 1>(l2.in, l2.out, l2.w_t.data(), l2.bias.data(), a1, a2, 1, 1, true);
-  Dense<double, 1>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, 1, 1, false);
+  ThreeLayers<double, 1>(weights_, x, a1, a2, y, 1, 1);
   return {std::max(std::exp(y[0]) - 1.0, 0.0), std::max(std::exp(y[1]) - 1.0, 0.0),
           std::max(std::exp(y[2]) - 1.0, 0.0)};
 }
