@@ -226,14 +226,18 @@ double AdaptiveController::ExposureUs(int lobe, int exposure,
   return AdaptiveExposureUs(*shorter.front(), calibration_, options_);
 }
 
-bool AdaptiveController::SkipLobe(int lobe) {
+bool AdaptiveController::WouldSkipLobe(int lobe) const {
   const PlannedLobe& p = plan_.lobes.at(lobe);
   if (!options_.skip_isotropic || !isotropic_ || p.kind == PlannedLobe::Kind::kDark ||
       p.l <= std::max(1, options_.min_order)) {
     return false;
   }
-  const bool skip = p.m < 0 || (p.m > 0 && p.kind == PlannedLobe::Kind::kNegative);
-  if (skip) skipped_.push_back(p.Name());
+  return p.m < 0 || (p.m > 0 && p.kind == PlannedLobe::Kind::kNegative);
+}
+
+bool AdaptiveController::SkipLobe(int lobe) {
+  const bool skip = WouldSkipLobe(lobe);
+  if (skip) skipped_.push_back(plan_.lobes.at(lobe).Name());
   return skip;
 }
 

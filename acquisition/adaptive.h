@@ -121,6 +121,8 @@ class AdaptiveController {
   double ExposureUs(int lobe, int exposure, const std::vector<const Frame*>& shorter) const;
   bool StopAfterLobe(int lobe);
   bool SkipLobe(int lobe);
+  // What SkipLobe would say now, without recording it (for the patterns told ahead).
+  bool WouldSkipLobe(int lobe) const;
   const std::vector<std::string>& skipped_lobes() const { return skipped_; }
   // The order to keep once the capture ended (the plan's if it never stopped).
   int order() const { return order_; }

@@ -293,11 +293,13 @@ CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& ca
     if (adaptive_running) {
       capture.stop_after_lobe = [&](int lobe) { return adaptive->StopAfterLobe(lobe); };
       capture.skip_lobe = [&](int lobe) { return adaptive->SkipLobe(lobe); };
+      capture.skip_lobe_ahead = [&](int lobe) { return adaptive->WouldSkipLobe(lobe); };
     }
   }
   const std::set<std::string> skipped = SkippedLobes(session.session());
   if (!skipped.empty()) {
     capture.skip_lobe = [&](int lobe) { return skipped.count(result.plan.lobes[lobe].Name()) > 0; };
+    capture.skip_lobe_ahead = capture.skip_lobe;
   }
   const auto capture_start = std::chrono::steady_clock::now();
   result.capture = RunCapture(session, result.plan, patterns, camera, projector, clock, capture);

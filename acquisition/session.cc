@@ -642,7 +642,39 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
   Report(options.progress, {"capture", progress_done, total, "frames"});
   const int64_t start_us = clock.NowUs();
   const int per_lobe = static_cast<int>(plan.exposures_us.size()) * plan.repeats;
-  for (int lobe = 0; lobe < static_cast<int>(plan.lobes.size()); ++lobe) {
+  const int lobe_count = static_cast<int>(plan.lobes.size());
+  // A projector that renders several patterns at once (Projector::PatternsAhead, the virtual
+  // one) is told the next lobes with frames to take, from the one about to be shown, but for
+  // those skip_lobe_ahead leaves out; their patterns are loaded once, for both. A pattern file
+  // that fails to load ends the window, so its error comes at its own lobe, as without one.
+  const int ahead = std::max(0, projector.PatternsAhead());
+  std::map<int, Pattern> window;
+  auto pattern_of = [&](int lobe) -> Pattern {
+    if (ahead < 2) return patterns.Load(lobe);
+    if (!window.count(lobe)) {
+      window.clear();
+      std::vector<Pattern> upcoming;
+      for (int l = lobe; l < lobe_count && static_cast<int>(upcoming.size()) < ahead; ++l) {
+        bool missing = false;
+        for (int k = 0; k < per_lobe && !missing; ++k) missing = !done.count(l * per_lobe + k);
+        if (!missing || (l != lobe && options.skip_lobe_ahead && options.skip_lobe_ahead(l))) {
+          continue;
+        }
+        try {
+          upcoming.push_back(patterns.Load(l));
+        } catch (const InputError&) {
+          if (l == lobe) throw;
+          break;
+        }
+        window[l] = upcoming.back();
+      }
+      projector.Upcoming(upcoming);
+    }
+    Pattern pattern = std::move(window.at(lobe));
+    window.erase(lobe);
+    return pattern;
+  };
+  for (int lobe = 0; lobe < lobe_count; ++lobe) {
     if (options.skip_lobe && options.skip_lobe(lobe)) {
       progress_done += per_lobe;
       Report(options.progress, {"capture", progress_done, total, "frames"});
@@ -661,7 +693,7 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
       missing.push_back(index);
     }
     if (!missing.empty()) {
-      projector.Show(patterns.Load(lobe));
+      projector.Show(pattern_of(lobe));
       clock.SleepUs(static_cast<int64_t>(options.settle_us));
       for (int index : missing) {
         if (options.interrupt && options.interrupt->load()) {

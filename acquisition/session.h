@@ -244,6 +244,10 @@ struct CaptureOptions {
   // If set and true for a lobe, it is not captured (its pattern is not shown); on_lobe_complete
   // gets no frames for it (the processor synthesizes it: isotropy, docs/adaptive.md).
   std::function<bool(int lobe)> skip_lobe;
+  // If set, what skip_lobe would say of a later lobe as things stand, without deciding it (no
+  // side effects): such lobes are left out of the patterns a projector is told ahead
+  // (Projector::Upcoming). A lobe it misses costs that projector a render, not a frame.
+  std::function<bool(int lobe)> skip_lobe_ahead;
 
   // Throws InvalidOptions (an InputError) naming every field out of range and the values it
   // accepts (basis/option_checker.h).

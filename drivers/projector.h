@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,14 @@ class Projector {
   // supports it). The caller still waits the rig's settle time before exposing.
   // Throws InputError for a pattern of the wrong size or depth, DeviceError on device failure.
   virtual void Show(const Pattern& pattern) = 0;
+
+  // How many patterns ahead this projector can use (Upcoming); 0, the default: none.
+  virtual int PatternsAhead() const { return 0; }
+  // The patterns the caller means to Show next, in order, the first being the next Show: a
+  // hint, so the caller may still show others or fewer. The virtual projector has them all
+  // rendered in one pass over its light transport when the first is shown (a frame is the same
+  // either way, bit for bit); a hardware driver could upload them ahead. Default: ignored.
+  virtual void Upcoming(std::span<const Pattern> patterns) { (void)patterns; }
 };
 
 }  // namespace zbrdf

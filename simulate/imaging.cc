@@ -32,13 +32,6 @@
 
 namespace zbrdf {
 
-uint64_t HashMix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
 namespace {
 
 // Per-pixel sample points. Each pair of dimensions (pixel jitter, lens aperture, direction of
@@ -734,31 +727,97 @@ std::vector<float> ForwardModel::ProjectorRadiance(const Pattern& pattern) const
   return radiance;
 }
 
-std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
-  const std::vector<float> radiance = ProjectorRadiance(pattern);
-  const int64_t pixels = static_cast<int64_t>(row_begin_.size()) - 1;
-  // The pattern's footprint moments M_k = sum_j moments_jk L_j, for the control variates.
-  double moments[kFootprintMoments] = {0, 0, 0, 0, 0};
+std::array<double, kFootprintMoments> ForwardModel::PatternMoments(
+    const std::vector<float>& radiance) const {
+  std::array<double, kFootprintMoments> moments{};
   for (size_t j = 0; j < radiance.size(); ++j) {
     if (radiance[j] == 0) continue;
     for (int k = 0; k < kFootprintMoments; ++k) {
       moments[k] += static_cast<double>(maps_.projector_moments[j * kFootprintMoments + k]) * radiance[j];
     }
   }
+  return moments;
+}
+
+std::vector<float> ForwardModel::ElectronRate(const Pattern& pattern) const {
+  return RateOfRadiance(ProjectorRadiance(pattern));
+}
+
+std::vector<float> ForwardModel::RateOfRadiance(const std::vector<float>& radiance) const {
+  const std::array<double, kFootprintMoments> moments = PatternMoments(radiance);
+  const int64_t pixels = static_cast<int64_t>(row_begin_.size()) - 1;
   std::vector<float> rate(pixels, 0.0f);
   ParallelFor(pixels, 4096, [&](int64_t p0, int64_t p1) {
     for (int64_t p = p0; p < p1; ++p) {
-      double sum = 0;
-      for (int k = 0; k < kFootprintMoments; ++k) sum += control_[p * kFootprintMoments + k] * moments[k];
-      // The entries' weights are in units of the pixel's scale (imaging.h).
       const std::span<const TransportEntry> row(
           packed_.data() + row_begin_[p], static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
-      rate[p] = static_cast<float>(sum + weight_scale_[p] *
-                                             RowProduct(row, first_index_[p], radiance.data()));
+      rate[p] = PixelRate(p, moments, RowProduct(row, first_index_[p], radiance.data()));
     }
   });
   return rate;
 }
+
+std::vector<std::vector<float>> ForwardModel::ElectronRates(
+    std::span<const Pattern> patterns) const {
+  constexpr int kLanes = kRowProductPatterns;
+  const int64_t pixels = static_cast<int64_t>(row_begin_.size()) - 1;
+  std::vector<std::vector<float>> rates;
+  rates.reserve(patterns.size());
+  for (size_t begin = 0; begin < patterns.size(); begin += kLanes) {
+    const size_t count = std::min(patterns.size() - begin, static_cast<size_t>(kLanes));
+    std::vector<std::vector<float>> radiance(count);
+    for (size_t i = 0; i < count; ++i) {
+      try {
+        radiance[i] = ProjectorRadiance(patterns[begin + i]);
+      } catch (const InputError& e) {
+        throw InputError("pattern " + std::to_string(begin + i + 1) + " of " +
+                         std::to_string(patterns.size()) + ": " + e.what());
+      }
+    }
+    if (count == 1) {  // one image: the gathers read 8x less than a pass of all lanes
+      rates.push_back(RateOfRadiance(radiance[0]));
+      continue;
+    }
+    // Lanes past count stay zero. 64-byte aligned, so that a pixel's lanes share a cache line.
+    const size_t projector_pixels = radiance[0].size();
+    std::vector<float> storage(projector_pixels * kLanes + 16, 0.0f);
+    float* const interleaved = reinterpret_cast<float*>(
+        (reinterpret_cast<uintptr_t>(storage.data()) + 63) & ~static_cast<uintptr_t>(63));
+    std::vector<std::array<double, kFootprintMoments>> moments(count);
+    for (size_t i = 0; i < count; ++i) {
+      moments[i] = PatternMoments(radiance[i]);
+      for (size_t j = 0; j < projector_pixels; ++j) interleaved[j * kLanes + i] = radiance[i][j];
+    }
+    const size_t first_new = rates.size();
+    for (size_t i = 0; i < count; ++i) rates.emplace_back(pixels, 0.0f);
+    ParallelFor(pixels, 4096, [&](int64_t p0, int64_t p1) {
+      double products[kLanes];
+      for (int64_t p = p0; p < p1; ++p) {
+        const std::span<const TransportEntry> row(
+            packed_.data() + row_begin_[p], static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
+        RowProducts(row, first_index_[p], interleaved, products);
+        for (size_t i = 0; i < count; ++i) {
+          rates[first_new + i][p] = PixelRate(p, moments[i], products[i]);
+        }
+      }
+    });
+  }
+  return rates;
+}
+
+namespace {
+
+// std::nearbyint(x), as an integer, in the default rounding mode (to nearest, ties to even),
+// for 0 <= x < 2^53, without its library call (x86-64's baseline has no rounding instruction).
+// Clamping to [0, max_dn] first and rounding after equals rounding first: the bounds are
+// integers.
+int64_t RoundHalfEven(double x) {
+  const int64_t whole = static_cast<int64_t>(x);
+  const double fraction = x - static_cast<double>(whole);  // exact (Sterbenz)
+  return whole + ((fraction > 0.5) | ((fraction == 0.5) & (whole & 1)));
+}
+
+}  // namespace
 
 Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, double exposure_us,
                                    uint64_t noise_key, bool add_noise) const {
@@ -776,9 +835,15 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
   const double max_dn = std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1);
   const uint64_t key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
   const ZigguratNormal& normal = ZigguratNormal::Get();
-  ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, [&](int64_t p0, int64_t p1) {
+  // The sensor's constants and the arrays as locals: the loop then keeps them in registers
+  // instead of reloading them through the captured references at every pixel.
+  const float* const rate = electron_rate.data();
+  uint16_t* const out = frame.data.data();
+  const double read_noise_e = s.read_noise_e, full_well_e = s.full_well_e;
+  const double dark_level_dn = s.dark_level_dn, gain_e_per_dn = s.gain_e_per_dn;
+  auto render = [=, &normal](int64_t p0, int64_t p1) {
     for (int64_t p = p0; p < p1; ++p) {
-      double electrons = std::max(0.0, static_cast<double>(electron_rate[p]) * exposure_s);
+      double electrons = std::max(0.0, static_cast<double>(rate[p]) * exposure_s);
       double read = 0;
       if (add_noise) {
         uint64_t h = HashMix(key + static_cast<uint64_t>(p) * 0x9e3779b97f4a7c15ull);
@@ -800,17 +865,18 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
         }
         // The read noise, and (above 30 electrons) the shot noise as N(mu, mu), whose variance
         // is exact and skew < 1/sqrt(30); standard normals by the ziggurat method.
-        read = s.read_noise_e * normal.Sample(next_word);
+        read = read_noise_e * normal.Sample(next_word);
         if (!poisson) {
           electrons += std::sqrt(electrons) * normal.Sample(next_word);
           electrons = std::max(0.0, electrons);
         }
       }
-      electrons = std::min(electrons, s.full_well_e);
-      const double dn = s.dark_level_dn + (electrons + read) / s.gain_e_per_dn;
-      frame.data[p] = static_cast<uint16_t>(std::clamp(std::nearbyint(dn), 0.0, max_dn));
+      electrons = std::min(electrons, full_well_e);
+      const double dn = dark_level_dn + (electrons + read) / gain_e_per_dn;
+      out[p] = static_cast<uint16_t>(RoundHalfEven(std::clamp(dn, 0.0, max_dn)));
     }
-  });
+  };
+  ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, render);
   return frame;
 }
 

@@ -24,9 +24,11 @@
 // footprint a pixel sees.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <future>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -85,6 +87,11 @@ class ForwardModel {
   std::vector<float> ProjectorRadiance(const Pattern& pattern) const;
   // Mean photo-electrons per second at each camera pixel, noise-free and unclipped.
   std::vector<float> ElectronRate(const Pattern& pattern) const;
+  // ElectronRate of each pattern, equal to it bit for bit, read off the transport in one pass
+  // per kRowProductPatterns patterns: about the cost of two single products for eight (a
+  // product mostly reads the transport). For a projector that is told what comes next
+  // (Projector::Upcoming). Throws InputError naming the first pattern that does not fit.
+  std::vector<std::vector<float>> ElectronRates(std::span<const Pattern> patterns) const;
   // The raw frame for an electron rate and exposure. noise_key selects the noise realization;
   // with add_noise false, only black level, full well, quantization and clipping apply.
   Frame RenderFromRate(const std::vector<float>& electron_rate, double exposure_us,
@@ -114,6 +121,21 @@ class ForwardModel {
  private:
   void BuildTransport(const Brdf& material);
   std::string CacheKey(const Brdf& material) const;
+  // ElectronRate of a pattern's ProjectorRadiance.
+  std::vector<float> RateOfRadiance(const std::vector<float>& radiance) const;
+  // The pattern's footprint moments M_k = sum_j moments_jk L_j (radiance L), for the control
+  // variates.
+  std::array<double, kFootprintMoments> PatternMoments(const std::vector<float>& radiance) const;
+  // The rate at camera pixel p from the moments and the row's product with the radiance.
+  float PixelRate(int64_t p, const std::array<double, kFootprintMoments>& moments,
+                  double product) const {
+    double sum = 0;
+    for (int k = 0; k < kFootprintMoments; ++k) {
+      sum += control_[p * kFootprintMoments + k] * moments[k];
+    }
+    // The entries' weights are in units of the pixel's scale (see packed_ below).
+    return static_cast<float>(sum + weight_scale_[p] * product);
+  }
   bool LoadCached(const std::string& path, const std::string& key);
   void SaveCached(const std::string& path, const std::string& key) const;
 
@@ -141,8 +163,14 @@ class ForwardModel {
   std::shared_future<void> cache_write_;  // SaveCached on its own thread
 };
 
-// Counter-based random numbers (SplitMix64): the same (key, index) always gives the same value.
-uint64_t HashMix(uint64_t x);
+// Counter-based random numbers (SplitMix64's finalizer): the same (key, index) always gives the
+// same value. Inline: the sensor model draws two or three per pixel and frame.
+inline uint64_t HashMix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
 inline double UniformFromHash(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
 
 }  // namespace zbrdf

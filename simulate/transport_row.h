@@ -36,10 +36,22 @@ PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
 
 // sum over the row of weight * radiance[j], j = first + the steps up to and including the
 // entry's: each product rounded to float (exact for the weight, which has 16 bits), summed in
-// double. With AVX2 (chosen when the program starts) 8 entries at a time, by gathers; the sum
-// differs from RowProductScalar's, the same one entry at a time, by rounding only. Every j must
-// index radiance (ForwardModel checks a row's steps when it loads them from a file).
+// double in one fixed order: four partial sums, entry e into sum e mod 4 in entry order, then
+// (s0 + s1) + (s2 + s3). Every path below keeps that order, so they agree bit for bit: a frame
+// does not depend on the CPU, nor on how many patterns were rendered in one pass. With AVX2
+// (chosen when the program starts) 8 entries at a time, by gathers. Every j must index
+// radiance (ForwardModel checks a row's steps when it loads them from a file).
 double RowProduct(std::span<const TransportEntry> row, uint32_t first, const float* radiance);
 double RowProductScalar(std::span<const TransportEntry> row, uint32_t first, const float* radiance);
+
+// The row's products with kRowProductPatterns radiance images in one pass over its entries
+// (which are most of a product's cost: a full-resolution transport is ~0.4 GB):
+// radiance_interleaved[kRowProductPatterns * j + i] is image i's radiance at projector pixel j.
+// out[i] equals RowProduct(row, first, image i) bit for bit. AVX2 when the CPU has it.
+inline constexpr int kRowProductPatterns = 8;
+void RowProducts(std::span<const TransportEntry> row, uint32_t first,
+                 const float* radiance_interleaved, double out[kRowProductPatterns]);
+void RowProductsScalar(std::span<const TransportEntry> row, uint32_t first,
+                       const float* radiance_interleaved, double out[kRowProductPatterns]);
 
 }  // namespace zbrdf

@@ -1,5 +1,6 @@
 #include "simulate/virtual_rig.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -33,6 +34,57 @@ void VirtualProjector::Show(const Pattern& pattern) {
   }
   current_ = pattern;
   ++generation_;
+}
+
+void VirtualProjector::Upcoming(std::span<const Pattern> patterns) {
+  upcoming_.assign(patterns.begin(),
+                   patterns.begin() + std::min<size_t>(patterns.size(), PatternsAhead()));
+  ++upcoming_generation_;
+}
+
+namespace {
+
+bool SamePattern(const Pattern& a, const Pattern& b) {
+  return a.width == b.width && a.height == b.height && a.bit_depth == b.bit_depth &&
+         a.levels == b.levels;
+}
+
+}  // namespace
+
+std::vector<float> VirtualCamera::RateOfShownPattern() {
+  const VirtualProjector& projector = rig_.virtual_projector();
+  const Pattern& shown = projector.current();
+  if (prepared_material_ != rig_.material_generation()) prepared_.clear();
+  // A newly announced window that holds the shown pattern: all of it in one pass.
+  if (projector.upcoming_generation() != prepared_upcoming_) {
+    const std::vector<Pattern>& upcoming = projector.upcoming();
+    const bool announced = std::any_of(upcoming.begin(), upcoming.end(),
+                                       [&](const Pattern& p) { return SamePattern(p, shown); });
+    if (announced) {
+      prepared_upcoming_ = projector.upcoming_generation();
+      prepared_material_ = rig_.material_generation();
+      prepared_.clear();
+      try {
+        std::vector<std::vector<float>> rates = rig_.model().ElectronRates(upcoming);
+        for (size_t i = 0; i < upcoming.size(); ++i) {
+          prepared_.emplace_back(upcoming[i], std::move(rates[i]));
+        }
+        rates_rendered_ahead_ += upcoming.size();
+      } catch (const InputError&) {
+        // One of them does not fit the projector: the shown one is rendered alone below, and
+        // reports its own error if it is the one.
+      }
+    }
+  }
+  for (auto it = prepared_.begin(); it != prepared_.end(); ++it) {
+    if (SamePattern(it->first, shown)) {
+      std::vector<float> rate = std::move(it->second);
+      prepared_.erase(it);
+      ++rates_from_windows_;
+      return rate;
+    }
+  }
+  return rig_.model().ElectronRate(shown);
 }
 
 CameraInfo VirtualCamera::Info() const {
@@ -81,7 +133,7 @@ Frame VirtualCamera::Grab(std::chrono::milliseconds /*timeout*/) {
       dark.levels.assign(static_cast<size_t>(dark.width) * dark.height, 0);
       cached_rate_ = rig_.model().ElectronRate(dark);
     } else {
-      cached_rate_ = rig_.model().ElectronRate(projector.current());
+      cached_rate_ = RateOfShownPattern();
     }
     cached_generation_ = projector.generation();
     cached_material_ = rig_.material_generation();

@@ -9,7 +9,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "brdf/brdf.h"
 #include "drivers/camera.h"
@@ -29,13 +32,21 @@ class VirtualProjector final : public Projector {
   explicit VirtualProjector(const VirtualRig& rig) : rig_(rig) {}
   ProjectorInfo Info() const override;
   void Show(const Pattern& pattern) override;
+  // Up to kRowProductPatterns announced patterns are kept; the camera renders them together
+  // when the first of them is shown (ForwardModel::ElectronRates).
+  int PatternsAhead() const override { return kRowProductPatterns; }
+  void Upcoming(std::span<const Pattern> patterns) override;
   const Pattern& current() const { return current_; }
   uint64_t generation() const { return generation_; }
+  const std::vector<Pattern>& upcoming() const { return upcoming_; }
+  uint64_t upcoming_generation() const { return upcoming_generation_; }
 
  private:
   const VirtualRig& rig_;
   Pattern current_;
   uint64_t generation_ = 0;
+  std::vector<Pattern> upcoming_;
+  uint64_t upcoming_generation_ = 0;
 };
 
 class VirtualCamera final : public Camera {
@@ -46,6 +57,10 @@ class VirtualCamera final : public Camera {
   void SetTriggerMode(TriggerMode mode) override { mode_ = mode; }
   void SetNextFrameIndex(uint64_t index) override { next_index_ = index; }
   Frame Grab(std::chrono::milliseconds timeout) override;
+  // Patterns rendered in windows announced ahead (VirtualProjector::Upcoming), and those of them
+  // that were then shown: the difference is rendering the session did not need.
+  uint64_t rates_rendered_ahead() const { return rates_rendered_ahead_; }
+  uint64_t rates_from_windows() const { return rates_from_windows_; }
 
  private:
   VirtualRig& rig_;
@@ -54,9 +69,16 @@ class VirtualCamera final : public Camera {
   uint64_t next_index_ = 0;
   uint64_t frame_id_ = 0;
   int64_t last_start_us_ = -1000000000;
+  // The shown pattern's electron rate: the one announced ahead, else rendered alone.
+  std::vector<float> RateOfShownPattern();
+
   // Electron rate of the last pattern rendered (exposure brackets reuse it).
   uint64_t cached_generation_ = ~0ull, cached_material_ = ~0ull;
   std::vector<float> cached_rate_;
+  // Rates of announced patterns not yet shown, rendered in one pass, for one material.
+  std::vector<std::pair<Pattern, std::vector<float>>> prepared_;
+  uint64_t prepared_upcoming_ = 0, prepared_material_ = ~0ull;
+  uint64_t rates_rendered_ahead_ = 0, rates_from_windows_ = 0;
 };
 
 class VirtualRig {

@@ -219,6 +219,9 @@ TEST(AdaptiveCapture, LambertianStopsAfterBandOneInLessTime) {
 TEST(AdaptiveCapture, GlossyKeepsItsBandsAndResumesIdentically) {
   Rigged setup("ggx:alpha=0.25,F0=0.5,kd=0.2");
   const std::string whole = TempDir("glossy-whole"), parts = TempDir("glossy-parts");
+  const auto& counters = static_cast<const VirtualCamera&>(setup.camera());
+  const uint64_t ahead_before = counters.rates_rendered_ahead();
+  const uint64_t shown_before = counters.rates_from_windows();
   const CaptureJobResult r = setup.Run(Job(whole, 3, true));
   ASSERT_TRUE(r.complete);
   EXPECT_EQ(r.zonal.order, 3) << r.adaptive.dump();
@@ -226,6 +229,12 @@ TEST(AdaptiveCapture, GlossyKeepsItsBandsAndResumesIdentically) {
   // lobes, 6 + 9 in bands 2 and 3.
   ASSERT_TRUE(r.adaptive["isotropic"].get<bool>());
   EXPECT_EQ(r.adaptive["skipped_lobes"].size(), 15u);
+  // The virtual projector is told the patterns ahead but for lobes known to be skipped
+  // (CaptureOptions::skip_lobe_ahead), so each pattern it rendered ahead was then shown (without
+  // that: 24 rendered, 17 shown).
+  EXPECT_GT(counters.rates_from_windows() - shown_before, 0u);
+  EXPECT_EQ(counters.rates_rendered_ahead() - ahead_before,
+            counters.rates_from_windows() - shown_before);
   // The synthesized functions are projections onto the one azimuthal harmonic isotropy allows,
   // which removes the error outside it: against the truth, no larger an error than a capture that
   // measures every lobe (measured 0.89% vs 1.36%, seed 1). The session re-processes to the same

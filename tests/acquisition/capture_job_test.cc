@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -258,6 +260,68 @@ CaptureJobOptions SmallJob(const std::string& dir, double shortest_exposure_us =
 void CopySessionFiles(const std::string& from, const std::string& to) {
   fs::create_directories(to);
   fs::copy(from, to, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+}
+
+// The virtual projector behind one that says it uses `ahead` patterns ahead (0: none, so the
+// session tells it nothing), recording what it is told and shown.
+class AheadProjector final : public Projector {
+ public:
+  AheadProjector(Projector& inner, int ahead) : inner_(inner), ahead_(ahead) {}
+  ProjectorInfo Info() const override { return inner_.Info(); }
+  void Show(const Pattern& pattern) override {
+    shown.push_back(pattern.levels);
+    inner_.Show(pattern);
+  }
+  int PatternsAhead() const override { return ahead_; }
+  void Upcoming(std::span<const Pattern> patterns) override {
+    windows.push_back({shown.size(), {}});
+    for (const Pattern& p : patterns) windows.back().second.push_back(p.levels);
+    inner_.Upcoming(patterns);
+  }
+
+  std::vector<std::vector<uint16_t>> shown;
+  // Each window with the number of patterns shown before it.
+  std::vector<std::pair<size_t, std::vector<std::vector<uint16_t>>>> windows;
+
+ private:
+  Projector& inner_;
+  int ahead_;
+};
+
+TEST(CaptureJob, AProjectorToldThePatternsAheadShowsThemInOrderAndFramesDoNotChange) {
+  SimulatedRig setup("ggx:alpha=0.15,F0=0.04,kd=0.3");
+  std::map<int, std::string> frames[2];
+  for (int ahead : {0, 3}) {
+    const std::string dir = TempDir("ahead-" + std::to_string(ahead));
+    AheadProjector projector(setup.virtual_rig->projector(), ahead);
+    CaptureJobOptions job = SmallJob(dir);
+    job.pattern_cache_dir = testing::TestCacheDir();
+    const CaptureJobResult r =
+        RunCaptureJob(setup.virtual_rig->rig(), setup.calibration, setup.camera(), projector,
+                      setup.virtual_rig->clock(), job);
+    ASSERT_TRUE(r.complete);
+    frames[ahead > 0] = Checksums(dir);
+    ASSERT_EQ(projector.shown.size(), 8u);
+    if (ahead == 0) {
+      EXPECT_TRUE(projector.windows.empty());
+    } else {
+      // Windows of 3, 3 and 2 lobes, each told just before its first is shown, in the order
+      // they are then shown.
+      ASSERT_EQ(projector.windows.size(), 3u);
+      size_t told = 0;
+      for (const auto& [shown_before, window] : projector.windows) {
+        EXPECT_EQ(shown_before, told);
+        EXPECT_LE(window.size(), 3u);
+        for (size_t k = 0; k < window.size(); ++k) {
+          EXPECT_EQ(window[k], projector.shown[told + k]) << "window pattern " << k;
+        }
+        told += window.size();
+      }
+      EXPECT_EQ(told, projector.shown.size());
+    }
+    fs::remove_all(dir);
+  }
+  EXPECT_EQ(frames[0], frames[1]) << "the frames do not depend on what the projector was told";
 }
 
 // Issue 15, cases 1 and 2, and the plan check of resumed sessions, on one rig.

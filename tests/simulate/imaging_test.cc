@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "basis/error.h"
 #include "brdf/material_spec.h"
@@ -271,6 +273,38 @@ TEST(ImagingTest, FlatMirrorShowsTheProjectorPixelAlongTheMirrorPath) {
   }
   EXPECT_GT(checked, 500);
   EXPECT_GT(agree, checked * 95 / 100);
+}
+
+TEST(ImagingTest, PatternsRenderedTogetherGiveEachPatternsRateBitForBit) {
+  // Eleven patterns (a pass of eight and a pass of three), rendered together and one by one:
+  // the same floats, so a virtual session's frames do not depend on what it was told ahead.
+  const auto& shared = testing::SharedFastThesisRig();
+  const auto material = MakeBrdf("ggx:alpha=0.2,F0=0.04,kd=0.2");
+  ForwardModelOptions options;
+  options.row_stride = 3;  // a third of the rows: the same rows, at a third of the cost
+  const ForwardModel model(shared.optics, shared.maps, *material, options);
+  ASSERT_GT(model.transport_entries(), 100000u);
+  std::vector<Pattern> patterns = {Uniform(shared.rig, 255),
+                                   BasisLike(shared.rig, shared.maps.projector)};
+  uint64_t state = 77;
+  while (patterns.size() < 11) {
+    Pattern p = Uniform(shared.rig, 0);
+    for (uint16_t& level : p.levels) level = static_cast<uint16_t>((state = HashMix(state)) % 256);
+    patterns.push_back(std::move(p));
+  }
+  const std::vector<std::vector<float>> together = model.ElectronRates(patterns);
+  ASSERT_EQ(together.size(), patterns.size());
+  for (size_t i = 0; i < patterns.size(); ++i) {
+    EXPECT_EQ(together[i], model.ElectronRate(patterns[i])) << "pattern " << i;
+  }
+  // A pattern that does not fit is named by its place.
+  patterns[9].bit_depth = 10;
+  try {
+    model.ElectronRates(patterns);
+    ADD_FAILURE() << "a 10-bit pattern for an 8-bit projector was rendered";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pattern 10 of 11"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ImagingTest, RejectsPatternsOfTheWrongShape) {

@@ -20,6 +20,13 @@ struct RandomRow {
   uint32_t first = 0;
 };
 
+// A radiance over 2^-40 .. 2^40: products that far apart round when summed in double, so
+// that a sum in another order is another number (over a narrow range every order is exact).
+float WideRadiance(uint64_t word) {
+  return static_cast<float>(UniformFromHash(word) *
+                            std::ldexp(1.0, static_cast<int>((word >> 3) % 81) - 40));
+}
+
 RandomRow MakeRow(uint64_t seed, size_t entries) {
   RandomRow r;
   uint64_t state = seed;
@@ -38,7 +45,7 @@ RandomRow MakeRow(uint64_t seed, size_t entries) {
   r.radiance.resize(j + 1);
   for (float& value : r.radiance) {
     const uint64_t w = word();
-    value = w % 5 == 0 ? 0.0f : static_cast<float>(UniformFromHash(w) * 1e3);
+    value = w % 5 == 0 ? 0.0f : WideRadiance(w);
   }
   return r;
 }
@@ -78,6 +85,38 @@ TEST(TransportRowTest, ProductsAreTheExactSumToFloatRounding) {
           << n << " entries, trial " << trial;
       ASSERT_LE(std::abs(scalar - static_cast<double>(exact)), bound)
           << n << " entries, trial " << trial;
+      // One summation order on every path: a frame does not depend on the CPU.
+      ASSERT_EQ(fast, scalar) << n << " entries, trial " << trial;
+    }
+  }
+}
+
+TEST(TransportRowTest, EightImagesInOnePassGiveEachImagesProductBitForBit) {
+  // Every length from 0 to 40 (each 4-entry step and tail) and long rows; eight different
+  // images (a lane mix-up gives another image's product), interleaved as RowProducts reads them.
+  std::vector<size_t> lengths;
+  for (size_t n = 0; n <= 40; ++n) lengths.push_back(n);
+  for (size_t n : {255, 256, 257, 4000}) lengths.push_back(n);
+  uint64_t seed = 1000;
+  for (size_t n : lengths) {
+    const RandomRow r = MakeRow(++seed, n);
+    std::vector<std::vector<float>> images(kRowProductPatterns, r.radiance);
+    std::vector<float> interleaved(r.radiance.size() * kRowProductPatterns);
+    uint64_t state = seed;
+    for (int i = 0; i < kRowProductPatterns; ++i) {
+      for (size_t j = 0; j < r.radiance.size(); ++j) {
+        state = HashMix(state);
+        if (i > 0) images[i][j] = state % 4 == 0 ? 0.0f : WideRadiance(state);
+        interleaved[j * kRowProductPatterns + i] = images[i][j];
+      }
+    }
+    double fast[kRowProductPatterns], scalar[kRowProductPatterns];
+    RowProducts(r.row, r.first, interleaved.data(), fast);
+    RowProductsScalar(r.row, r.first, interleaved.data(), scalar);
+    for (int i = 0; i < kRowProductPatterns; ++i) {
+      const double alone = RowProduct(r.row, r.first, images[i].data());
+      ASSERT_EQ(fast[i], alone) << n << " entries, image " << i;
+      ASSERT_EQ(scalar[i], alone) << n << " entries, image " << i;
     }
   }
 }

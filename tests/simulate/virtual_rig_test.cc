@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "basis/error.h"
 #include "brdf/material_spec.h"
 #include "tests/rig/rig_test_util.h"
@@ -10,12 +13,12 @@ namespace zbrdf {
 namespace {
 namespace ZBRDF_TEST_FILE_ID {
 
-VirtualRig MakeRig(uint64_t seed) {
+VirtualRig MakeRig(uint64_t seed, const std::string& material = "lambert:0.3") {
   VirtualRig::Options options;
   options.seed = seed;
   options.cache_dir = testing::TestCacheDir();
   return VirtualRig(ApplyPreset(LoadRig(testing::SourceRig("thesis.yaml")), Preset::kFast),
-                    MakeBrdf("lambert:0.3"), options);
+                    MakeBrdf(material), options);
 }
 
 Pattern White(const ProjectorInfo& info) {
@@ -68,6 +71,42 @@ TEST(VirtualRigTest, FramesShowWhatTheProjectorShowsAndRepeatForTheSameIndex) {
     dark_sum += fd.data[i];
   }
   EXPECT_GT(lit_sum, 1.2 * dark_sum);
+}
+
+TEST(VirtualRigTest, PatternsAnnouncedAheadGiveTheFramesOfPatternsShownAlone) {
+  // One rig is told the patterns ahead, the other is not; both show the same sequence. A
+  // glossy material (a Lambertian's frames need no transport entries at all).
+  const std::string material = "ggx:alpha=0.2,F0=0.04,kd=0.2";
+  VirtualRig told = MakeRig(5, material), alone = MakeRig(5, material);
+  const ProjectorInfo info = told.projector().Info();
+  std::vector<Pattern> random(4, White(info));
+  uint64_t state = 3;
+  for (Pattern& p : random) {
+    for (uint16_t& level : p.levels) level = static_cast<uint16_t>((state = HashMix(state)) % 256);
+  }
+  Pattern wrong_size = White(info);
+  wrong_size.width -= 1;
+  told.projector().Upcoming(std::vector<Pattern>{random[0], random[1], random[2]});
+  // The window in order, with a pattern not in it (white) between; then a window with a pattern
+  // the projector cannot show, whose valid neighbour is still rendered right.
+  const std::vector<Pattern> sequence = {random[0], White(info), random[1], random[2], random[3]};
+  uint64_t index = 10;
+  for (size_t i = 0; i < sequence.size(); ++i) {
+    if (i == 4) told.projector().Upcoming(std::vector<Pattern>{wrong_size, random[3]});
+    for (VirtualRig* rig : {&told, &alone}) {
+      rig->projector().Show(sequence[i]);
+      rig->camera().SetExposure(5000);
+      rig->camera().SetNextFrameIndex(index);
+    }
+    ++index;
+    const Frame a = told.camera().Grab(std::chrono::milliseconds(100));
+    const Frame b = alone.camera().Grab(std::chrono::milliseconds(100));
+    EXPECT_EQ(a.data, b.data) << "pattern " << i;
+  }
+  EXPECT_EQ(static_cast<VirtualCamera&>(told.camera()).rates_rendered_ahead(), 3u);
+  EXPECT_EQ(static_cast<VirtualCamera&>(told.camera()).rates_from_windows(), 3u);
+  EXPECT_EQ(static_cast<VirtualCamera&>(alone.camera()).rates_from_windows(), 0u);
+  EXPECT_THROW(told.projector().Show(wrong_size), InputError);
 }
 
 TEST(VirtualRigTest, RejectsBadExposuresAndPatterns) {
