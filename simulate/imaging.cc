@@ -28,7 +28,6 @@
 #include "basis/zone.h"
 #include "brdf/fingerprint.h"
 #include "brdf/sampling.h"
-#include "simulate/normal_sampler.h"
 
 namespace zbrdf {
 
@@ -805,20 +804,6 @@ std::vector<std::vector<float>> ForwardModel::ElectronRates(
   return rates;
 }
 
-namespace {
-
-// std::nearbyint(x), as an integer, in the default rounding mode (to nearest, ties to even),
-// for 0 <= x < 2^53, without its library call (x86-64's baseline has no rounding instruction).
-// Clamping to [0, max_dn] first and rounding after equals rounding first: the bounds are
-// integers.
-int64_t RoundHalfEven(double x) {
-  const int64_t whole = static_cast<int64_t>(x);
-  const double fraction = x - static_cast<double>(whole);  // exact (Sterbenz)
-  return whole + ((fraction > 0.5) | ((fraction == 0.5) & (whole & 1)));
-}
-
-}  // namespace
-
 Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, double exposure_us,
                                    uint64_t noise_key, bool add_noise) const {
   const Rig& rig = optics_.rig();
@@ -831,52 +816,20 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
   frame.exposure_us = exposure_us;
   frame.gain = s.gain_e_per_dn;
   frame.data.resize(electron_rate.size());
-  const double exposure_s = exposure_us * 1e-6;
-  const double max_dn = std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1);
-  const uint64_t key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
-  const ZigguratNormal& normal = ZigguratNormal::Get();
-  // The sensor's constants and the arrays as locals: the loop then keeps them in registers
-  // instead of reloading them through the captured references at every pixel.
-  const float* const rate = electron_rate.data();
-  uint16_t* const out = frame.data.data();
-  const double read_noise_e = s.read_noise_e, full_well_e = s.full_well_e;
-  const double dark_level_dn = s.dark_level_dn, gain_e_per_dn = s.gain_e_per_dn;
-  auto render = [=, &normal](int64_t p0, int64_t p1) {
-    for (int64_t p = p0; p < p1; ++p) {
-      double electrons = std::max(0.0, static_cast<double>(rate[p]) * exposure_s);
-      double read = 0;
-      if (add_noise) {
-        uint64_t h = HashMix(key + static_cast<uint64_t>(p) * 0x9e3779b97f4a7c15ull);
-        auto next_word = [&h]() {
-          h = HashMix(h);
-          return h;
-        };
-        const bool poisson = electrons < 30;
-        if (poisson && electrons > 0) {  // (a pixel off the sample has mean 0: no draw)
-          // Poisson by multiplication of uniforms (Knuth), exact for small means.
-          const double limit = std::exp(-electrons);
-          double product = UniformFromHash(next_word());
-          int count = 0;
-          while (product > limit && count < 1000) {
-            product *= UniformFromHash(next_word());
-            ++count;
-          }
-          electrons = count;
-        }
-        // The read noise, and (above 30 electrons) the shot noise as N(mu, mu), whose variance
-        // is exact and skew < 1/sqrt(30); standard normals by the ziggurat method.
-        read = read_noise_e * normal.Sample(next_word);
-        if (!poisson) {
-          electrons += std::sqrt(electrons) * normal.Sample(next_word);
-          electrons = std::max(0.0, electrons);
-        }
-      }
-      electrons = std::min(electrons, full_well_e);
-      const double dn = dark_level_dn + (electrons + read) / gain_e_per_dn;
-      out[p] = static_cast<uint16_t>(RoundHalfEven(std::clamp(dn, 0.0, max_dn)));
-    }
-  };
-  ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, render);
+  SensorPixelModel model;
+  model.exposure_s = exposure_us * 1e-6;
+  model.read_noise_e = s.read_noise_e;
+  model.full_well_e = s.full_well_e;
+  model.dark_level_dn = s.dark_level_dn;
+  model.gain_e_per_dn = s.gain_e_per_dn;
+  model.max_dn = std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1);
+  model.key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
+  model.add_noise = add_noise;
+  ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, [&](int64_t p0, int64_t p1) {
+    RenderSensorPixels(
+        std::span<const float>(electron_rate.data() + p0, static_cast<size_t>(p1 - p0)), p0, model,
+        frame.data.data() + p0);
+  });
   return frame;
 }
 

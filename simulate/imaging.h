@@ -38,6 +38,7 @@
 #include "drivers/projector.h"
 #include "rig/direction_maps.h"
 #include "rig/optics.h"
+#include "simulate/sensor_pixels.h"  // HashMix, UniformFromHash
 #include "simulate/transport_row.h"
 
 namespace zbrdf {
@@ -162,15 +163,5 @@ class ForwardModel {
   std::string cache_path_;                // the cache entry being written, if any
   std::shared_future<void> cache_write_;  // SaveCached on its own thread
 };
-
-// Counter-based random numbers (SplitMix64's finalizer): the same (key, index) always gives the
-// same value. Inline: the sensor model draws two or three per pixel and frame.
-inline uint64_t HashMix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-inline double UniformFromHash(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
 
 }  // namespace zbrdf

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "basis/cpu_features.h"
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 #define ZBRDF_ROW_PRODUCT_AVX2 1
@@ -176,20 +178,12 @@ __attribute__((target("avx2"))) void RowProductsAvx2(std::span<const TransportEn
                    _mm256_add_pd(_mm256_add_pd(high[0], high[1]), _mm256_add_pd(high[2], high[3])));
 }
 
-bool HaveAvx2() {
-  static const bool have = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0;
-  }();
-  return have;
-}
-
 }  // namespace
 #endif
 
 double RowProduct(std::span<const TransportEntry> row, uint32_t first, const float* radiance) {
 #ifdef ZBRDF_ROW_PRODUCT_AVX2
-  if (HaveAvx2()) return RowProductAvx2(row, first, radiance);
+  if (CpuHasAvx2()) return RowProductAvx2(row, first, radiance);
 #endif
   return RowProductScalar(row, first, radiance);
 }
@@ -197,7 +191,7 @@ double RowProduct(std::span<const TransportEntry> row, uint32_t first, const flo
 void RowProducts(std::span<const TransportEntry> row, uint32_t first,
                  const float* radiance_interleaved, double out[kRowProductPatterns]) {
 #ifdef ZBRDF_ROW_PRODUCT_AVX2
-  if (HaveAvx2()) return RowProductsAvx2(row, first, radiance_interleaved, out);
+  if (CpuHasAvx2()) return RowProductsAvx2(row, first, radiance_interleaved, out);
 #endif
   RowProductsScalar(row, first, radiance_interleaved, out);
 }

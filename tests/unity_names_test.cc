@@ -46,11 +46,12 @@ struct LocalName {
 
 // The names a column-0 line of an anonymous namespace declares: the first identifier that is
 // followed, outside brackets, by ( = { [ ; or , and the first one after each top-level comma
-// (`const Scalar kGrid(1), kText(2);`). Keywords and `operator` are skipped.
+// (`const Scalar kGrid(1), kText(2);`). Keywords, `operator` and `__attribute__((...))` are
+// skipped.
 std::vector<std::string> DeclaredNames(const std::string& line) {
-  static const std::set<std::string> kSkip = {"operator", "const",    "constexpr",
-                                              "static",   "inline",   "return",
-                                              "noexcept", "override", "final"};
+  static const std::set<std::string> kSkip = {"operator", "const",        "constexpr", "static",
+                                              "inline",   "return",       "noexcept",  "override",
+                                              "final",    "__attribute__"};
   std::vector<std::string> names;
   int depth = 0;
   bool want = true;  // looking for the next declarator's name
@@ -306,6 +307,7 @@ TEST(UnityNames, TheScannerFindsHelpersConstantsTypesAndAliases) {
                                    "template <typename T>\n"
                                    "T Twice(T x) { return x + x; }\n"
                                    "bool operator<(const Contents& a, const Contents& b);\n"
+                                   "__attribute__((target(\"avx2\"))) double SumAvx2(int n);\n"
                                    "\n"
                                    "}  // namespace\n"
                                    "\n"
@@ -314,11 +316,12 @@ TEST(UnityNames, TheScannerFindsHelpersConstantsTypesAndAliases) {
                                    "}  // namespace zbrdf\n");
   std::vector<std::string> names;
   for (const LocalName& n : scan.names) names.push_back(n.name);
-  const std::vector<std::string> expected = {"fs",    "kFormat",  "kGrid", "kText", "Fail",
-                                             "Pairs", "Contents", "Mode",  "Twice", "Text"};
+  const std::vector<std::string> expected = {"fs",    "kFormat", "kGrid",    "kText",
+                                             "Fail",  "Pairs",   "Contents", "Mode",
+                                             "Twice", "SumAvx2", "Text"};
   EXPECT_EQ(names, expected);
   EXPECT_TRUE(scan.violations.empty());
-  EXPECT_EQ(scan.names.back().where, "a.cc:22");
+  EXPECT_EQ(scan.names.back().where, "a.cc:23");
 }
 
 TEST(UnityNames, ClashesAreNamedAndRepeatedAliasesAreNot) {

@@ -1,0 +1,17 @@
+#include "basis/cpu_features.h"
+
+namespace zbrdf {
+
+bool CpuHasAvx2() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool have = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return have;
+#else
+  return false;
+#endif
+}
+
+}  // namespace zbrdf

@@ -1,0 +1,10 @@
+// What the CPU the program runs on can do, for the inner loops that pick an instruction set when
+// the program starts (the build itself targets baseline x86-64, so that it runs anywhere).
+#pragma once
+
+namespace zbrdf {
+
+// True if the CPU has AVX2 (x86-64 with GCC or Clang; false elsewhere). Asked once.
+bool CpuHasAvx2();
+
+}  // namespace zbrdf
