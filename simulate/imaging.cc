@@ -822,7 +822,8 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
   model.full_well_e = s.full_well_e;
   model.dark_level_dn = s.dark_level_dn;
   model.gain_e_per_dn = s.gain_e_per_dn;
-  model.max_dn = std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1);
+  // A count above a fractional saturation level rounds down to the count below it.
+  model.max_dn = std::floor(std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1));
   model.key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
   model.add_noise = add_noise;
   ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, [&](int64_t p0, int64_t p1) {

@@ -24,8 +24,8 @@ struct SensorPixelModel {
   double read_noise_e = 0;   // standard deviation, electrons
   double full_well_e = 0;    // electrons a pixel holds
   double dark_level_dn = 0;  // black level, counts
-  double gain_e_per_dn = 1;
-  double max_dn = 4095;   // the largest count: saturation, or the bit depth's largest
+  double gain_e_per_dn = 1;  // electrons per count
+  double max_dn = 4095;      // the largest count, an integer: saturation or 2^bits - 1
   uint64_t key = 0;       // the frame's noise: pixel p draws from HashMix(key + p * 2^64/phi)
   bool add_noise = true;  // false: only full well, black level, quantization and clipping
 };

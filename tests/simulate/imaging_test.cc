@@ -196,6 +196,14 @@ TEST(ImagingTest, SaturationClipsAtTheSensorMaximum) {
     if (shared.maps.camera.throughput[i] == 1.0f) saturated += frame.data[i] == 4095 || frame.data[i] >= 64 + 10000 / 2.5 - 40;
   }
   EXPECT_GT(saturated, 10000);
+  // A fractional saturation level (the rig file allows one) clips to the count below it.
+  Rig rig = shared.rig;
+  rig.sensor.saturation_dn = 4001.5;
+  const OpticalSystem optics(rig);
+  const ForwardModel clipped(optics, shared.maps, *material);
+  const Frame at_level = clipped.Render(Uniform(rig, 255), 5e6, 3, true);
+  EXPECT_EQ(*std::max_element(at_level.data.begin(), at_level.data.end()), 4001);
+  EXPECT_GT(std::count(at_level.data.begin(), at_level.data.end(), 4001), 10000);
 }
 
 // Frames at the default sample count against a 16x reference on every 12th row (same seed
