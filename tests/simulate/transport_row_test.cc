@@ -65,13 +65,17 @@ long double ExactProduct(const RandomRow& r, long double* magnitude) {
   return sum;
 }
 
-TEST(TransportRowTest, ProductsAreTheExactSumToFloatRounding) {
-  // Every length from 0 to 40 (the 8-entry steps and every tail), and long rows.
+// Every length from 0 to 40 (each step of 4 or 8 entries, and every tail), and long rows.
+std::vector<size_t> RowLengths() {
   std::vector<size_t> lengths;
   for (size_t n = 0; n <= 40; ++n) lengths.push_back(n);
   for (size_t n : {255, 256, 257, 4000}) lengths.push_back(n);
+  return lengths;
+}
+
+TEST(TransportRowTest, ProductsAreTheExactSumToFloatRounding) {
   uint64_t seed = 17;
-  for (size_t n : lengths) {
+  for (size_t n : RowLengths()) {
     for (int trial = 0; trial < 5; ++trial) {
       const RandomRow r = MakeRow(++seed, n);
       long double magnitude = 0;
@@ -92,13 +96,10 @@ TEST(TransportRowTest, ProductsAreTheExactSumToFloatRounding) {
 }
 
 TEST(TransportRowTest, EightImagesInOnePassGiveEachImagesProductBitForBit) {
-  // Every length from 0 to 40 (each 4-entry step and tail) and long rows; eight different
-  // images (a lane mix-up gives another image's product), interleaved as RowProducts reads them.
-  std::vector<size_t> lengths;
-  for (size_t n = 0; n <= 40; ++n) lengths.push_back(n);
-  for (size_t n : {255, 256, 257, 4000}) lengths.push_back(n);
+  // Eight different images (a lane mix-up gives another image's product), interleaved as
+  // RowProducts reads them.
   uint64_t seed = 1000;
-  for (size_t n : lengths) {
+  for (size_t n : RowLengths()) {
     const RandomRow r = MakeRow(++seed, n);
     std::vector<std::vector<float>> images(kRowProductPatterns, r.radiance);
     std::vector<float> interleaved(r.radiance.size() * kRowProductPatterns);
