@@ -92,12 +92,16 @@ TEST(GigECapture, ACameraThatStopsMidSessionIsReportedAndTheResumeCompletesIt) {
   const std::string dir = FreshDir("stops");
   GigEFakeOptions stops;
   stops.stop_after_frames = 60;  // metering takes a few; the rest are plan frames
+  std::string error;
   try {
     RunVirtualCapture(GigEArgs(dir, stops));
     FAIL() << "the capture should fail when the camera stops answering";
   } catch (const DeviceError& e) {
-    EXPECT_NE(std::string(e.what()).find("127.0.0.1"), std::string::npos) << e.what();
+    error = e.what();
+    EXPECT_NE(error.find("127.0.0.1"), std::string::npos) << error;
   }
+  // The camera must have stopped mid-capture, not before the session began (say why if not).
+  ASSERT_TRUE(fs::exists(dir + "/session.json")) << "the capture failed before its session: " << error;
   const size_t journaled = JournalChecksums(dir).size();
   EXPECT_GT(journaled, 30u);
   EXPECT_LT(journaled, 60u);
