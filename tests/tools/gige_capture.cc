@@ -101,7 +101,8 @@ TEST(GigECapture, ACameraThatStopsMidSessionIsReportedAndTheResumeCompletesIt) {
     EXPECT_NE(error.find("127.0.0.1"), std::string::npos) << error;
   }
   // The camera must have stopped mid-capture, not before the session began (say why if not).
-  ASSERT_TRUE(fs::exists(dir + "/session.json")) << "the capture failed before its session: " << error;
+  ASSERT_TRUE(fs::exists(dir + "/session.json"))
+      << "the capture failed before its session: " << error;
   const size_t journaled = JournalChecksums(dir).size();
   EXPECT_GT(journaled, 30u);
   EXPECT_LT(journaled, 60u);
