@@ -748,9 +748,7 @@ std::vector<float> ForwardModel::RateOfRadiance(const std::vector<float>& radian
   std::vector<float> rate(pixels, 0.0f);
   ParallelFor(pixels, 4096, [&](int64_t p0, int64_t p1) {
     for (int64_t p = p0; p < p1; ++p) {
-      const std::span<const TransportEntry> row(
-          packed_.data() + row_begin_[p], static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
-      rate[p] = PixelRate(p, moments, RowProduct(row, first_index_[p], radiance.data()));
+      rate[p] = PixelRate(p, moments, RowProduct(Row(p), first_index_[p], radiance.data()));
     }
   });
   return rate;
@@ -792,9 +790,7 @@ std::vector<std::vector<float>> ForwardModel::ElectronRates(
     ParallelFor(pixels, 4096, [&](int64_t p0, int64_t p1) {
       double products[kLanes];
       for (int64_t p = p0; p < p1; ++p) {
-        const std::span<const TransportEntry> row(
-            packed_.data() + row_begin_[p], static_cast<size_t>(row_begin_[p + 1] - row_begin_[p]));
-        RowProducts(row, first_index_[p], interleaved, products);
+        RowProducts(Row(p), first_index_[p], interleaved, products);
         for (size_t i = 0; i < count; ++i) {
           rates[first_new + i][p] = PixelRate(p, moments[i], products[i]);
         }
@@ -816,14 +812,7 @@ Frame ForwardModel::RenderFromRate(const std::vector<float>& electron_rate, doub
   frame.exposure_us = exposure_us;
   frame.gain = s.gain_e_per_dn;
   frame.data.resize(electron_rate.size());
-  SensorPixelModel model;
-  model.exposure_s = exposure_us * 1e-6;
-  model.read_noise_e = s.read_noise_e;
-  model.full_well_e = s.full_well_e;
-  model.dark_level_dn = s.dark_level_dn;
-  model.gain_e_per_dn = s.gain_e_per_dn;
-  // A count above a fractional saturation level rounds down to the count below it.
-  model.max_dn = std::floor(std::min(s.saturation_dn, std::ldexp(1.0, s.bit_depth) - 1));
+  SensorPixelModel model = SensorPixelModel::Of(s, exposure_us * 1e-6);
   model.key = HashMix(options_.seed ^ HashMix(noise_key ^ 0xf00dull));
   model.add_noise = add_noise;
   ParallelFor(static_cast<int64_t>(electron_rate.size()), 8192, [&](int64_t p0, int64_t p1) {

@@ -127,6 +127,10 @@ class ForwardModel {
   // The pattern's footprint moments M_k = sum_j moments_jk L_j (radiance L), for the control
   // variates.
   std::array<double, kFootprintMoments> PatternMoments(const std::vector<float>& radiance) const;
+  // Camera pixel p's packed entries (see packed_ below).
+  std::span<const TransportEntry> Row(int64_t p) const {
+    return {packed_.data() + row_begin_[p], static_cast<size_t>(row_begin_[p + 1] - row_begin_[p])};
+  }
   // The rate at camera pixel p from the moments and the row's product with the radiance.
   float PixelRate(int64_t p, const std::array<double, kFootprintMoments>& moments,
                   double product) const {

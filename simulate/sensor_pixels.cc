@@ -184,6 +184,17 @@ __attribute__((target("avx2"))) void RenderSensorPixelsAvx2(std::span<const floa
 
 }  // namespace
 
+SensorPixelModel SensorPixelModel::Of(const SensorParams& sensor, double exposure_s) {
+  SensorPixelModel m;
+  m.exposure_s = exposure_s;
+  m.read_noise_e = sensor.read_noise_e;
+  m.full_well_e = sensor.full_well_e;
+  m.dark_level_dn = sensor.dark_level_dn;
+  m.gain_e_per_dn = sensor.gain_e_per_dn;
+  m.max_dn = std::floor(std::min(sensor.saturation_dn, std::ldexp(1.0, sensor.bit_depth) - 1));
+  return m;
+}
+
 void RenderSensorPixelsScalar(std::span<const float> rate, int64_t first,
                               const SensorPixelModel& model, uint16_t* out) {
   const ZigguratNormal& normal = ZigguratNormal::Get();

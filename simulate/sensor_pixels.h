@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <span>
 
+#include "rig/rig.h"
+
 namespace zbrdf {
 
 // Counter-based random numbers (SplitMix64's finalizer): the same (key, index) always gives the
@@ -28,6 +30,10 @@ struct SensorPixelModel {
   double max_dn = 4095;      // the largest count, an integer: saturation or 2^bits - 1
   uint64_t key = 0;       // the frame's noise: pixel p draws from HashMix(key + p * 2^64/phi)
   bool add_noise = true;  // false: only full well, black level, quantization and clipping
+
+  // The rig's sensor at an exposure (key 0, noise on). A fractional saturation level clips to
+  // the count below it.
+  static SensorPixelModel Of(const SensorParams& sensor, double exposure_s);
 };
 
 // Raw counts of pixels first .. first + rate.size() - 1 from their mean rates (electrons/s):

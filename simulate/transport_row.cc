@@ -38,15 +38,25 @@ PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
   return start;
 }
 
-double RowProductScalar(std::span<const TransportEntry> row, uint32_t first,
-                        const float* radiance) {
-  double partial[4] = {0, 0, 0, 0};
-  uint32_t j = first;
-  for (size_t e = 0; e < row.size(); ++e) {
+namespace {
+
+// Entries begin .. row.size() - 1 into the partial sums (entry e into partial[e % 4]), the
+// projector pixel stepping on from j; then the sums combined in the one order.
+double FinishRowProduct(std::span<const TransportEntry> row, size_t begin, uint32_t j,
+                        const float* radiance, double partial[4]) {
+  for (size_t e = begin; e < row.size(); ++e) {
     j += row[e].step;
     partial[e % 4] += static_cast<double>(static_cast<float>(row[e].weight) * radiance[j]);
   }
   return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+}
+
+}  // namespace
+
+double RowProductScalar(std::span<const TransportEntry> row, uint32_t first,
+                        const float* radiance) {
+  double partial[4] = {0, 0, 0, 0};
+  return FinishRowProduct(row, 0, first, radiance, partial);
 }
 
 void RowProductsScalar(std::span<const TransportEntry> row, uint32_t first,
@@ -110,12 +120,10 @@ __attribute__((target("avx2"))) double RowProductAvx2(std::span<const TransportE
   }
   alignas(32) double partial[4];
   _mm256_store_pd(partial, sums);
-  uint32_t j = static_cast<uint32_t>(_mm_cvtsi128_si32(_mm256_castsi256_si128(base)));
-  for (size_t e = whole; e < n; ++e) {  // the tail, into the same sums (whole % 4 == 0)
-    j += row[e].step;
-    partial[e % 4] += static_cast<double>(static_cast<float>(row[e].weight) * radiance[j]);
-  }
-  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+  // The tail, into the same sums (whole % 4 == 0).
+  return FinishRowProduct(row, whole,
+                          static_cast<uint32_t>(_mm_cvtsi128_si32(_mm256_castsi256_si128(base))),
+                          radiance, partial);
 }
 
 // Entry e's products with the kRowProductPatterns images, added to the partial sums k = e mod 4

@@ -84,13 +84,7 @@ void BM_SensorModel(benchmark::State& state) {
           static_cast<float>(5 + sensor.full_well_e * UniformFromHash(word));
     }
   }
-  SensorPixelModel model;
-  model.exposure_s = 1;
-  model.read_noise_e = sensor.read_noise_e;
-  model.full_well_e = sensor.full_well_e;
-  model.dark_level_dn = sensor.dark_level_dn;
-  model.gain_e_per_dn = sensor.gain_e_per_dn;
-  model.max_dn = std::floor(std::min(sensor.saturation_dn, std::ldexp(1.0, sensor.bit_depth) - 1));
+  SensorPixelModel model = SensorPixelModel::Of(sensor, 1.0);
   std::vector<uint16_t> counts(rate.size());
   for (auto _ : state) {
     model.key = HashMix(model.key);
