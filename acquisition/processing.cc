@@ -12,6 +12,7 @@
 #include <ImfThreading.h>
 #include <half.h>
 
+#include "acquisition/half_convert.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
@@ -27,10 +28,15 @@ void WriteRgbHalfExr(const std::string& path, const cv::Mat& rgb) {
   const int w = rgb.cols, h = rgb.rows;
   std::vector<half> channels[3];
   for (int c = 0; c < 3; ++c) channels[c].resize(static_cast<size_t>(w) * h);
+  std::vector<float> plane(3 * static_cast<size_t>(w));  // a row's channels, clipped
   for (int y = 0; y < h; ++y) {
     const cv::Vec3f* row = rgb.ptr<cv::Vec3f>(y);
     for (int x = 0; x < w; ++x) {
-      for (int c = 0; c < 3; ++c) channels[c][y * w + x] = half(std::min(row[x][c], 65000.0f));
+      for (int c = 0; c < 3; ++c)
+        plane[c * static_cast<size_t>(w) + x] = std::min(row[x][c], 65000.0f);
+    }
+    for (int c = 0; c < 3; ++c) {
+      FloatsToHalf(&plane[c * static_cast<size_t>(w)], w, &channels[c][static_cast<size_t>(y) * w]);
     }
   }
   Imf::Header header(w, h);

@@ -1,6 +1,7 @@
 #include "brdf/brdf.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "basis/error.h"
@@ -11,6 +12,23 @@ void Brdf::EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
                      std::span<Rgb> f) const {
   ZBRDF_ASSERT(w_i.size() == w_o.size() && w_i.size() == f.size(), "EvalBatch size mismatch");
   for (size_t k = 0; k < w_i.size(); ++k) f[k] = Eval(w_i[k], w_o[k]);
+}
+
+void Brdf::EvalChannelBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                                           int channel, std::span<double> value) const {
+  ZBRDF_ASSERT(
+      w_i.size() == w_o.size() && w_i.size() == value.size() && channel >= -1 && channel < 3,
+      "EvalChannelBatchSinglePrecision: size mismatch or channel outside -1..2");
+  constexpr size_t kChunk = 128;
+  std::array<Rgb, kChunk> f;
+  for (size_t start = 0; start < w_i.size(); start += kChunk) {
+    const size_t count = std::min(kChunk, w_i.size() - start);
+    EvalBatchSinglePrecision(w_i.subspan(start, count), w_o.subspan(start, count),
+                             std::span<Rgb>(f.data(), count));
+    for (size_t k = 0; k < count; ++k) {
+      value[start + k] = channel < 0 ? f[k].Luminance() : f[k][channel];
+    }
+  }
 }
 
 BrdfSample Brdf::Sample(const Vec3& w_o, double /*u_lobe*/, double u0, double u1) const {

@@ -52,6 +52,12 @@ class Brdf {
                                         std::span<Rgb> f) const {
     EvalBatch(w_i, w_o, f);
   }
+  // One channel of EvalBatchSinglePrecision, for callers that use one: value[k] = f[k][channel]
+  // for channel 0, 1, 2, or f[k].Luminance() for channel -1 (the simulator's transport: each
+  // camera pixel sees one colour, or luminance on a monochrome sensor). The same numbers as
+  // EvalBatchSinglePrecision; models override it to skip the other channels' work.
+  virtual void EvalChannelBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                                               int channel, std::span<double> value) const;
 
   // Proposes w_i for the given w_o from uniform random numbers u_lobe, u0, u1 in [0, 1).
   // u_lobe chooses among lobes of a mixture; (u0, u1) place the direction.

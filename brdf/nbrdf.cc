@@ -364,8 +364,14 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromFile(const std::string& path) {
   return std::make_unique<NbrdfBrdf>(ReadNbrdfNetwork(path), "file:" + path);
 }
 
+namespace {
+// f = max(exp(y) - 1, 0): the network's output map.
+inline double OutputMap(double y) { return std::max(std::exp(y) - 1.0, 0.0); }
+}  // namespace
+
 template <typename T>
-void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count, T* scratch) const {
+const T* NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* scratch,
+                              bool* valid) const {
   // Structure-of-arrays scratch: each row holds one feature for the kBlock pairs. Rows past
   // `count` and of pairs below the horizon hold stale finite values; their results are dropped.
   const int hidden1 = network_.layers[0].out, hidden2 = network_.layers[1].out;
@@ -373,7 +379,6 @@ void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count, T
   T* a1 = x + kInputs * kBlock;
   T* a2 = a1 + hidden1 * kBlock;
   T* y = a2 + hidden2 * kBlock;
-  bool valid[kBlock];
   for (int k = 0; k < count; ++k) valid[k] = NetworkInput(w_i[k], w_o[k], x + k, kBlock);
   const int tiles = (count + kTile - 1) / kTile;
   if constexpr (std::is_same_v<T, float>) {
@@ -381,15 +386,7 @@ void NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count, T
   } else {
     EvaluateLayers(weights_, x, a1, a2, y, tiles);
   }
-  for (int k = 0; k < count; ++k) {
-    if (!valid[k]) {
-      f[k] = Rgb();
-      continue;
-    }
-    for (int c = 0; c < kOutputs; ++c) {
-      f[k][c] = std::max(std::exp(static_cast<double>(y[c * kBlock + k])) - 1.0, 0.0);
-    }
-  }
+  return y;
 }
 
 Rgb NbrdfBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
@@ -397,30 +394,76 @@ Rgb NbrdfBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
   if (!NetworkInput(w_i, w_o, x, 1)) return {};
   double a1[kMaxHidden], a2[kMaxHidden], y[kOutputs];
   ThreeLayers<double, 1>(weights_, x, a1, a2, y, 1, 1);
-  return {std::max(std::exp(y[0]) - 1.0, 0.0), std::max(std::exp(y[1]) - 1.0, 0.0),
-          std::max(std::exp(y[2]) - 1.0, 0.0)};
+  return {OutputMap(y[0]), OutputMap(y[1]), OutputMap(y[2])};
 }
 
-template <typename T>
+template <typename T, typename Out>
 void NbrdfBrdf::EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
-                            std::span<Rgb> f) const {
-  ZBRDF_ASSERT(w_i.size() == w_o.size() && w_i.size() == f.size(), "EvalBatch size mismatch");
+                            const Out& out) const {
+  ZBRDF_ASSERT(w_i.size() == w_o.size(), "EvalBatch size mismatch");
   const size_t rows = kInputs + network_.layers[0].out + network_.layers[1].out + kOutputs;
   std::vector<T> scratch(rows * kBlock, T(0));
+  bool valid[kBlock];
   for (size_t start = 0; start < w_i.size(); start += kBlock) {
     const int count = static_cast<int>(std::min<size_t>(kBlock, w_i.size() - start));
-    EvalBlock(&w_i[start], &w_o[start], &f[start], count, scratch.data());
+    const T* y = EvalBlock(&w_i[start], &w_o[start], count, scratch.data(), valid);
+    out(start, count, y, valid);
   }
 }
 
+namespace {
+
+// EvalBatchIn's output for whole colours.
+template <typename T>
+auto RgbOutput(std::span<Rgb> f) {
+  return [f](size_t start, int count, const T* y, const bool* valid) {
+    for (int k = 0; k < count; ++k) {
+      Rgb& v = f[start + k];
+      if (!valid[k]) {
+        v = Rgb();
+        continue;
+      }
+      for (int c = 0; c < kOutputs; ++c) {
+        v[c] = OutputMap(static_cast<double>(y[c * kBlock + k]));
+      }
+    }
+  };
+}
+
+}  // namespace
+
 void NbrdfBrdf::EvalBatch(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
                           std::span<Rgb> f) const {
-  EvalBatchIn<double>(w_i, w_o, f);
+  ZBRDF_ASSERT(w_i.size() == f.size(), "EvalBatch size mismatch");
+  EvalBatchIn<double>(w_i, w_o, RgbOutput<double>(f));
 }
 
 void NbrdfBrdf::EvalBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
                                          std::span<Rgb> f) const {
-  EvalBatchIn<float>(w_i, w_o, f);
+  ZBRDF_ASSERT(w_i.size() == f.size(), "EvalBatch size mismatch");
+  EvalBatchIn<float>(w_i, w_o, RgbOutput<float>(f));
+}
+
+void NbrdfBrdf::EvalChannelBatchSinglePrecision(std::span<const Vec3> w_i,
+                                                std::span<const Vec3> w_o, int channel,
+                                                std::span<double> value) const {
+  ZBRDF_ASSERT(w_i.size() == value.size() && channel >= -1 && channel < kOutputs,
+               "EvalChannelBatchSinglePrecision: size mismatch or channel outside -1..2");
+  if (channel < 0) {
+    EvalBatchIn<float>(w_i, w_o, [&](size_t start, int count, const float* y, const bool* valid) {
+      for (int k = 0; k < count; ++k) {
+        value[start + k] =
+            valid[k] ? Rgb{OutputMap(y[k]), OutputMap(y[kBlock + k]), OutputMap(y[2 * kBlock + k])}
+                           .Luminance()
+                     : 0.0;
+      }
+    });
+    return;
+  }
+  EvalBatchIn<float>(w_i, w_o, [&](size_t start, int count, const float* y, const bool* valid) {
+    const float* row = y + channel * kBlock;
+    for (int k = 0; k < count; ++k) value[start + k] = valid[k] ? OutputMap(row[k]) : 0.0;
+  });
 }
 
 }  // namespace zbrdf

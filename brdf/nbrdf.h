@@ -75,6 +75,10 @@ class NbrdfBrdf final : public ProxySampledBrdf {
   // 1e-5 (1 + f), ~1e-6 measured, for the simulator's Monte Carlo sums (error ~5e-3).
   void EvalBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
                                 std::span<Rgb> f) const override;
+  // The exponential (the network's output map) only for the channel asked, or all three for
+  // luminance.
+  void EvalChannelBatchSinglePrecision(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
+                                       int channel, std::span<double> value) const override;
   bool IsReciprocal() const override { return false; }
   bool IsEnergyConserving() const override { return false; }
   bool IsIsotropic() const override { return true; }  // fitted to isotropic MERL tables
@@ -86,11 +90,13 @@ class NbrdfBrdf final : public ProxySampledBrdf {
   // With the proxy sampler fitted to an identical network earlier (null: fits it).
   NbrdfBrdf(NbrdfNetwork network, std::string spec,
             std::shared_ptr<const HalfVectorProxySampler> sampler);
-  // Evaluates count pairs (at most one block) using scratch from EvalBatch.
+  // Evaluates count pairs (at most one block) using scratch from EvalBatchIn: the network's
+  // outputs y (row c: channel c of the pairs), and valid[k] false for pairs below the horizon.
   template <typename T>
-  void EvalBlock(const Vec3* w_i, const Vec3* w_o, Rgb* f, int count, T* scratch) const;
-  template <typename T>
-  void EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o, std::span<Rgb> f) const;
+  const T* EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* scratch, bool* valid) const;
+  // Blocks of EvalBlock; `out(start, count, y, valid)` maps each block's outputs.
+  template <typename T, typename Out>
+  void EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o, const Out& out) const;
 
   NbrdfNetwork network_;
   std::array<LayerWeights<double>, 3> weights_;

@@ -65,9 +65,11 @@ class HalfVectorProxySampler {
   };
   Mixture MixtureAt(double theta_o_rad) const;
   double LobeDensity(const Mixture& m, const Vec3& h) const;  // the mixed p_h(h)
+  double LobeDensityInCell(const Mixture& m, int cell) const;  // the same for h in a cell
   double PdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;
   double LobePdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;  // lobes alone
-  Vec3 SampleHalfVector(const Probe& probe, double u0, double u1) const;
+  // A half vector from the probe's cell distribution; *cell (optional): the cell drawn.
+  Vec3 SampleHalfVector(const Probe& probe, double u0, double u1, int* cell = nullptr) const;
   int CellOf(const Vec3& h) const;  // theta_h cell of h (h.z >= 0), by its cosine: no acos
   int CellBySearch(double cos_theta) const;
   // The guide for CellOf: 32 buckets per octave of u = 1 - h.z over [2^-40, 1], and one below.

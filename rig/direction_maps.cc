@@ -15,6 +15,7 @@
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/huge_pages.h"
 #include "basis/parallel.h"
 
 namespace zbrdf {
@@ -118,7 +119,8 @@ ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
   grid.step_rad = 2 * M_PI / grid.n_phi;  // exact period in phi
   grid.n_theta = static_cast<int>(std::ceil((M_PI / 2) / grid.step_rad)) + 1;
   const size_t n = static_cast<size_t>(grid.n_theta) * grid.n_phi;
-  grid.xy.assign(2 * n, std::numeric_limits<float>::quiet_NaN());
+  // Huge pages: the transport build looks up random directions (basis/huge_pages.h).
+  AssignInHugePages(&grid.xy, 2 * n, std::numeric_limits<float>::quiet_NaN());
   const ThinLens& projector = optics.projector();
   const int width = projector.params().width, height = projector.params().height;
   std::atomic<long> done{0};
@@ -248,28 +250,6 @@ bool ProjectorDirectionGrid::Lookup(const Vec3& w, double* px_out, double* py_ou
   return LookupAngles(SphericalTheta(w), SphericalPhi(w), px_out, py_out);
 }
 
-bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_out,
-                                          double* py_out) const {
-  if (n_theta == 0) return false;
-  const double fi = theta / step_rad, fj = phi / step_rad;
-  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
-  if (i + 1 >= n_theta) return false;
-  const double a = fi - i, b = fj - j;
-  // phi is in [0, 2 pi] (the zone sampler's azimuth may reach 2 pi): j is at most n_phi, so
-  // the wrap needs no division.
-  const int j0 = j >= n_phi ? j - n_phi : j, j1 = j0 + 1 == n_phi ? 0 : j0 + 1;
-  const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
-  const float* n01 = &xy[2 * (static_cast<size_t>(i) * n_phi + j1)];
-  const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
-  const float* n11 = n01 + 2 * static_cast<size_t>(n_phi);
-  if (std::isnan(n00[0]) || std::isnan(n01[0]) || std::isnan(n10[0]) || std::isnan(n11[0])) {
-    return false;
-  }
-  *px_out = (1 - a) * ((1 - b) * n00[0] + b * n01[0]) + a * ((1 - b) * n10[0] + b * n11[0]);
-  *py_out = (1 - a) * ((1 - b) * n00[1] + b * n01[1]) + a * ((1 - b) * n10[1] + b * n11[1]);
-  return true;
-}
-
 RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progress) {
   const Rig& rig = optics.rig();
   const int samples_1d =
@@ -316,6 +296,8 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
         maps.grid.n_theta = grid_dims[0];
         maps.grid.n_phi = grid_dims[1];
         const uint64_t n = static_cast<uint64_t>(grid_dims[0]) * grid_dims[1];
+        // As TraceGrid's, in huge pages; ReadVector keeps the memory for a file of this size.
+        if (n < (uint64_t{1} << 32)) AssignInHugePages(&maps.grid.xy, 2 * n, 0.0f);
         if (ReadVector(in, &maps.grid.xy, 2 * n) && maps.grid.xy.size() == 2 * n &&
             ReadVector(in, &maps.projector_moments,
                        static_cast<uint64_t>(maps.projector.size()) * kFootprintMoments) &&

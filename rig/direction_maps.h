@@ -53,8 +53,31 @@ struct ProjectorDirectionGrid {
   bool Lookup(const Vec3& w, double* px_out, double* py_out) const;
   // The same for a direction above the horizon given by its angles (SphericalTheta and
   // SphericalPhi of w), for callers that already have them.
+  // Inline: the transport build calls it for every sample.
   bool LookupAngles(double theta_rad, double phi_rad, double* px_out, double* py_out) const;
 };
+
+inline bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_out,
+                                                 double* py_out) const {
+  if (n_theta == 0) return false;
+  const double fi = theta / step_rad, fj = phi / step_rad;
+  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
+  if (i + 1 >= n_theta) return false;
+  const double a = fi - i, b = fj - j;
+  // phi is in [0, 2 pi] (the zone sampler's azimuth may reach 2 pi): j is at most n_phi, so
+  // the wrap needs no division.
+  const int j0 = j >= n_phi ? j - n_phi : j, j1 = j0 + 1 == n_phi ? 0 : j0 + 1;
+  const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
+  const float* n01 = &xy[2 * (static_cast<size_t>(i) * n_phi + j1)];
+  const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
+  const float* n11 = n01 + 2 * static_cast<size_t>(n_phi);
+  if (std::isnan(n00[0]) || std::isnan(n01[0]) || std::isnan(n10[0]) || std::isnan(n11[0])) {
+    return false;
+  }
+  *px_out = (1 - a) * ((1 - b) * n00[0] + b * n01[0]) + a * ((1 - b) * n10[0] + b * n11[0]);
+  *py_out = (1 - a) * ((1 - b) * n00[1] + b * n01[1]) + a * ((1 - b) * n10[1] + b * n11[1]);
+  return true;
+}
 
 // Number of moments per projector pixel (see RigMaps::projector_moments).
 inline constexpr int kFootprintMoments = 5;

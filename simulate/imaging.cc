@@ -23,8 +23,10 @@
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/hash.h"
+#include "basis/huge_pages.h"
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
+#include "basis/table_trig.h"
 #include "basis/zone.h"
 #include "brdf/fingerprint.h"
 #include "brdf/sampling.h"
@@ -47,7 +49,11 @@ uint32_t ReverseBits(uint32_t v) {
 
 struct PointSet2 {
   std::vector<double> u, v;
+  std::vector<int> order;  // scratch of ScrambledHammersley, kept to save an allocation per set
 };
+
+// fmod(x, 1) for x in [0, 1]: the same value without the library call (x - 1 is exact there).
+inline double WrapUnit(double x) { return x >= 1.0 ? x - 1.0 : x; }
 
 // n points of a 2-D Hammersley set, digitally shifted by random masks, in random order.
 void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
@@ -61,7 +67,8 @@ void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
   const bool power_of_two = (n & (n - 1)) == 0;
   int bits = 0;
   while ((1 << bits) < n) ++bits;
-  std::vector<int> order(n);
+  std::vector<int>& order = out->order;
+  order.resize(n);
   for (int i = 0; i < n; ++i) order[i] = i;
   for (int i = n - 1; i > 0; --i) {
     state = HashMix(state);
@@ -73,7 +80,7 @@ void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
       const uint32_t first = bits == 0 ? 0u : static_cast<uint32_t>(i) << (32 - bits);
       out->u[k] = (first ^ mask_u) * 0x1.0p-32;
     } else {
-      out->u[k] = std::fmod((i + shift) / n, 1.0);
+      out->u[k] = WrapUnit((i + shift) / n);  // i + shift < n: at most 1 by rounding
     }
     out->v[k] = (ReverseBits(static_cast<uint32_t>(i)) ^ mask_v) * 0x1.0p-32;
   }
@@ -82,32 +89,38 @@ void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
 using Entry = TransportSample;
 
 // Sorts a pixel's entries by projector pixel, equal pixels in their original (sample) order: a
-// least-significant-digit radix sort, two passes of 12 bits, for projectors of up to 2^24
-// pixels (std::stable_sort beyond). std::sort of a pixel's ~1000 entries cost 3.4% of a fast
-// transport build; this is a few microseconds.
+// least-significant-digit radix sort in two passes of half the index's bits each (10 for the
+// thesis projector's 480000 pixels), for projectors of up to 2^24 pixels (std::stable_sort
+// beyond). std::sort of a pixel's ~1000 entries cost 3.4% of a fast transport build; two passes
+// of a fixed 12 bits spent most of their time zeroing and summing 4096 buckets for a few hundred
+// entries (3.6% of a full-resolution build), half-width digits a sixteenth of that.
 void SortByProjectorPixel(std::vector<Entry>* entries, std::vector<Entry>* scratch,
                           uint32_t projector_pixels) {
-  constexpr int kBits = 12;
-  constexpr uint32_t kBuckets = 1u << kBits;
-  if (projector_pixels > (1u << (2 * kBits))) {
+  constexpr int kMaxBits = 12;
+  if (projector_pixels > (1u << (2 * kMaxBits))) {
     std::stable_sort(entries->begin(), entries->end(),
                      [](const Entry& a, const Entry& b) { return a.index < b.index; });
     return;
   }
+  int index_bits = 1;
+  while (index_bits < 2 * kMaxBits && (1u << index_bits) < projector_pixels) ++index_bits;
+  const int bits = (index_bits + 1) / 2;  // at most kMaxBits
+  const uint32_t buckets = 1u << bits, digit_mask = buckets - 1;
   scratch->resize(entries->size());
   std::vector<Entry>* from = entries;
   std::vector<Entry>* to = scratch;
   for (int pass = 0; pass < 2; ++pass) {
-    const int shift = pass * kBits;
-    std::array<uint32_t, kBuckets> start{};
-    for (const Entry& e : *from) ++start[(e.index >> shift) & (kBuckets - 1)];
+    const int shift = pass * bits;
+    std::array<uint32_t, 1u << kMaxBits> start;
+    std::fill_n(start.begin(), buckets, 0u);
+    for (const Entry& e : *from) ++start[(e.index >> shift) & digit_mask];
     uint32_t offset = 0;
-    for (uint32_t& s : start) {
-      const uint32_t count = s;
-      s = offset;
+    for (uint32_t b = 0; b < buckets; ++b) {
+      const uint32_t count = start[b];
+      start[b] = offset;
       offset += count;
     }
-    for (const Entry& e : *from) (*to)[start[(e.index >> shift) & (kBuckets - 1)]++] = e;
+    for (const Entry& e : *from) (*to)[start[(e.index >> shift) & digit_mask]++] = e;
     std::swap(from, to);
   }
   // After an even number of passes the result is back in *entries.
@@ -178,7 +191,9 @@ class Coverage {
     // sin^2(theta) is uniform for a cosine-weighted density.
     const double sin2 = sin2_lo_[j] + u1 * sin2_span_[j];
     const double sin_theta = std::sqrt(sin2), cos_theta = std::sqrt(std::max(0.0, 1 - sin2));
-    return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+    double sin_phi, cos_phi;
+    TurnSinCos((j + t) / n_phi_, &sin_phi, &cos_phi);  // phi in turns
+    return {sin_theta * cos_phi, sin_theta * sin_phi, cos_theta};
   }
 
   double Pdf(const Vec3& w) const {
@@ -296,7 +311,7 @@ namespace {
 constexpr char kTransportMagic[8] = {'Z', 'B', 'R', 'D', 'F', 'T', 'R', 'N'};
 constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
-constexpr uint32_t kTransportVersion = 5;
+constexpr uint32_t kTransportVersion = 6;
 
 template <typename T>
 std::string_view Bytes(const std::vector<T>& v) {
@@ -494,7 +509,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<OpticalSystem::SamplePath> paths(n_aperture);
     std::vector<Brdf::GlossyView> views(n_aperture);  // the glossy part per path's w_o
     std::vector<Vec3> w_in(std::max(n, kProbes)), w_out(std::max(n, kProbes));
-    std::vector<Rgb> f(std::max(n, kProbes));
+    std::vector<double> f_channel(std::max(n, kProbes));
     std::vector<double> weight(n);
     std::vector<std::pair<double, double>> angles(n);
     std::vector<std::pair<double, int>> probe_values(kProbes);
@@ -571,11 +586,14 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               w_in[i] = probes[i];
               w_out[i] = w_r;
             }
-            material.EvalBatch(std::span<const Vec3>(w_in.data(), kProbes),
-                               std::span<const Vec3>(w_out.data(), kProbes),
-                               std::span<Rgb>(f.data(), kProbes));
+            // Single precision, as the samples below: any coefficients give an unbiased
+            // estimate (the control's integral is exact), these only have to be close.
+            material.EvalChannelBatchSinglePrecision(std::span<const Vec3>(w_in.data(), kProbes),
+                                                     std::span<const Vec3>(w_out.data(), kProbes),
+                                                     channel,
+                                                     std::span<double>(f_channel.data(), kProbes));
             for (int i = 0; i < kProbes; ++i) {
-              const double v = channel < 0 ? f[i].Luminance() : f[i][channel];
+              const double v = f_channel[i];
               probe_values[i] = {std::isfinite(v) ? v : 0.0, i};
             }
             std::sort(probe_values.begin(), probe_values.end());
@@ -613,7 +631,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               w_i = coverage.Sample(zone_dirs.u[s], zone_dirs.v[s], &phi_i);
             } else {
               const int j = s - n_zone;
-              const double u_lobe = std::fmod((j + lobe_shift) / n_lobe, 1.0);
+              const double u_lobe = WrapUnit((j + lobe_shift) / n_lobe);
               const BrdfSample bs =
                   material.SampleGlossyAt(view, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
               if (bs.pdf <= 0 || bs.is_delta) continue;
@@ -622,7 +640,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             }
             if (w_i.z <= 0) continue;
             const double theta_i = SphericalTheta(w_i);
-            if (phi_i < 0) phi_i = SphericalPhi(w_i);
+            if (phi_i < 0) phi_i = TableSphericalPhi(w_i);
             const double p_zone = coverage.PdfAngles(w_i, theta_i, phi_i);
             if (p_zone <= 0) continue;  // not lit
             if (n_lobe > 0 && p_lobe < 0) p_lobe = material.GlossyPdfAt(view, w_i);
@@ -634,17 +652,17 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             angles[m] = {theta_i, phi_i};
             ++m;
           }
-          // Single precision inside where the material has it: ~1e-6 against this sum's ~5e-3.
-          material.EvalBatchSinglePrecision(std::span<const Vec3>(w_in.data(), m),
-                                            std::span<const Vec3>(w_out.data(), m),
-                                            std::span<Rgb>(f.data(), m));
+          // Single precision inside where the material has it: ~1e-6 against this sum's ~5e-3;
+          // only the pixel's channel.
+          material.EvalChannelBatchSinglePrecision(std::span<const Vec3>(w_in.data(), m),
+                                                   std::span<const Vec3>(w_out.data(), m), channel,
+                                                   std::span<double>(f_channel.data(), m));
           for (int i = 0; i < m; ++i) {
             double b[kFootprintMoments];
             FootprintBasis(w_in[i], b);
             double control = 0;
             for (int k = 0; k < kFootprintMoments; ++k) control += coeff[k] * b[k];
-            const double value =
-                ((channel < 0 ? f[i].Luminance() : f[i][channel]) - control) * w_in[i].z * weight[i];
+            const double value = (f_channel[i] - control) * w_in[i].z * weight[i];
             if (value == 0 || !std::isfinite(value)) continue;
             const int64_t index = projector_pixel_at_center(w_in[i], angles[i]);
             if (index < 0) continue;
@@ -775,9 +793,11 @@ std::vector<std::vector<float>> ForwardModel::ElectronRates(
       rates.push_back(RateOfRadiance(radiance[0]));
       continue;
     }
-    // Lanes past count stay zero. 64-byte aligned, so that a pixel's lanes share a cache line.
+    // Lanes past count stay zero. 64-byte aligned, so that a pixel's lanes share a cache line;
+    // in huge pages, as the rows' reads land anywhere in it (basis/huge_pages.h).
     const size_t projector_pixels = radiance[0].size();
-    std::vector<float> storage(projector_pixels * kLanes + 16, 0.0f);
+    std::vector<float> storage;
+    AssignInHugePages(&storage, projector_pixels * kLanes + 16, 0.0f);
     float* const interleaved = reinterpret_cast<float*>(
         (reinterpret_cast<uintptr_t>(storage.data()) + 63) & ~static_cast<uintptr_t>(63));
     std::vector<std::array<double, kFootprintMoments>> moments(count);

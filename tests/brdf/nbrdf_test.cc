@@ -12,6 +12,7 @@
 
 #include "basis/data_path.h"
 #include "basis/error.h"
+#include "brdf/material_spec.h"
 #include "brdf_checks.h"
 
 namespace zbrdf {
@@ -147,6 +148,34 @@ TEST(NbrdfTest, SinglePrecisionBatchIsEvalBatchToFloatRounding) {
       }
     }
     EXPECT_LT(max_y_error, 1e-5) << name;
+  }
+}
+
+// EvalChannelBatchSinglePrecision is one channel (or the luminance) of
+// EvalBatchSinglePrecision, bit for bit: the network's override (which maps only the asked
+// channel's output) and the default of every other model, over more pairs than one block or
+// chunk, with pairs below the horizon.
+TEST(NbrdfTest, OneChannelIsThatChannelOfTheSinglePrecisionBatch) {
+  testing::Rng rng(103);
+  const auto network = NbrdfBrdf::FromName("blue-acrylic");
+  const auto ggx = MakeBrdf("ggx:alpha=0.2,F0=0.04,kd=0.3");
+  for (const Brdf* brdf : std::vector<const Brdf*>{network.get(), ggx.get()}) {
+    std::vector<Vec3> w_i(300), w_o(300);
+    for (size_t k = 0; k < w_i.size(); ++k) {
+      w_i[k] = testing::RandomUpperDirection(rng);
+      w_o[k] = testing::RandomUpperDirection(rng);
+      if (k % 10 == 7) w_i[k].z = -w_i[k].z;
+    }
+    std::vector<Rgb> f(w_i.size());
+    brdf->EvalBatchSinglePrecision(w_i, w_o, f);
+    for (int channel = -1; channel < 3; ++channel) {
+      std::vector<double> value(w_i.size(), -1.0);
+      brdf->EvalChannelBatchSinglePrecision(w_i, w_o, channel, value);
+      for (size_t k = 0; k < w_i.size(); ++k) {
+        ASSERT_EQ(value[k], channel < 0 ? f[k].Luminance() : f[k][channel])
+            << brdf->Spec() << " channel " << channel << " pair " << k;
+      }
+    }
   }
 }
 

@@ -1,0 +1,26 @@
+// Transparent huge pages for large arrays read at random addresses (the transport build's
+// direction grid, the frames' interleaved projector radiances): one TLB entry covers 2 MB
+// instead of 4 kB, so such reads stop missing the TLB as well as the cache. Where the kernel's
+// THP setting is "madvise" (Debian's default) memory gets huge pages only when asked, before its
+// pages are first touched. A hint: no effect on values, none where THP is off or unsupported.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace zbrdf {
+
+// Asks for huge pages on the 2 MB-aligned pages inside [data, data + bytes) (madvise
+// MADV_HUGEPAGE on Linux; nothing elsewhere). Pages already touched keep their size.
+void AdviseHugePages(const void* data, size_t bytes);
+
+// *v = n copies of value, in memory allocated afresh and advised before it is filled.
+template <typename T>
+void AssignInHugePages(std::vector<T>* v, size_t n, const T& value) {
+  std::vector<T>().swap(*v);
+  v->reserve(n);
+  AdviseHugePages(v->data(), n * sizeof(T));
+  v->assign(n, value);
+}
+
+}  // namespace zbrdf
