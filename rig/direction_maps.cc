@@ -110,14 +110,18 @@ DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, i
   return map;
 }
 
+// The grid's step and node counts for a requested step in degrees: an exact period in phi.
+ProjectorDirectionGrid GridLayout(double step_deg) {
+  ProjectorDirectionGrid grid;
+  grid.n_phi = static_cast<int>(std::lround(360.0 / step_deg));
+  grid.step_rad = 2 * M_PI / grid.n_phi;
+  grid.n_theta = static_cast<int>(std::ceil((M_PI / 2) / grid.step_rad)) + 1;
+  return grid;
+}
+
 ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
                                  const ProgressCallback& progress) {
-  ProjectorDirectionGrid grid;
-  grid.step_rad = step_deg * M_PI / 180.0;
-  grid.n_theta = static_cast<int>(std::ceil(90.0 / step_deg)) + 1;
-  grid.n_phi = static_cast<int>(std::lround(360.0 / step_deg));
-  grid.step_rad = 2 * M_PI / grid.n_phi;  // exact period in phi
-  grid.n_theta = static_cast<int>(std::ceil((M_PI / 2) / grid.step_rad)) + 1;
+  ProjectorDirectionGrid grid = GridLayout(step_deg);
   const size_t n = static_cast<size_t>(grid.n_theta) * grid.n_phi;
   // Huge pages: the transport build looks up random directions (basis/huge_pages.h).
   AssignInHugePages(&grid.xy, 2 * n, std::numeric_limits<float>::quiet_NaN());
@@ -284,20 +288,20 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
       char magic[8];
       uint64_t stored_hash = 0;
       RigMaps maps;
+      // The grid this rig's step gives: a file with another is damaged (the hash covers the step).
+      maps.grid = GridLayout(optics.rig().simulation.direction_grid_deg);
       double step = 0;
       int32_t grid_dims[2];
       if (in.read(magic, 8) && std::memcmp(magic, "ZBRDFMAP", 8) == 0 &&
           in.read(reinterpret_cast<char*>(&stored_hash), sizeof(stored_hash)) &&
           stored_hash == hash && ReadMap(in, &maps.camera) && ReadMap(in, &maps.projector) &&
           in.read(reinterpret_cast<char*>(&step), sizeof(step)) &&
-          in.read(reinterpret_cast<char*>(grid_dims), sizeof(grid_dims)) && grid_dims[0] > 0 &&
-          grid_dims[1] > 0 && grid_dims[0] < 100000 && grid_dims[1] < 100000) {
-        maps.grid.step_rad = step;
-        maps.grid.n_theta = grid_dims[0];
-        maps.grid.n_phi = grid_dims[1];
+          in.read(reinterpret_cast<char*>(grid_dims), sizeof(grid_dims)) &&
+          step == maps.grid.step_rad && grid_dims[0] == maps.grid.n_theta &&
+          grid_dims[1] == maps.grid.n_phi) {
         const uint64_t n = static_cast<uint64_t>(grid_dims[0]) * grid_dims[1];
         // As TraceGrid's, in huge pages; ReadVector keeps the memory for a file of this size.
-        if (n < (uint64_t{1} << 32)) AssignInHugePages(&maps.grid.xy, 2 * n, 0.0f);
+        AssignInHugePages(&maps.grid.xy, 2 * n, 0.0f);
         if (ReadVector(in, &maps.grid.xy, 2 * n) && maps.grid.xy.size() == 2 * n &&
             ReadVector(in, &maps.projector_moments,
                        static_cast<uint64_t>(maps.projector.size()) * kFootprintMoments) &&

@@ -4,8 +4,12 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "basis/zone.h"
 #include "tests/rig/rig_test_util.h"
@@ -84,6 +88,28 @@ TEST(DirectionMapsTest, CacheRoundTripsAndRejectsDamage) {
   }
   const RigMaps rebuilt = LoadOrBuildRigMaps(shared.optics, dir);
   EXPECT_EQ(rebuilt.camera.direction, built.camera.direction);
+  // A grid size that is not the rig's (here 99999 rows): rebuilt, not trusted (nor allocated).
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    std::string bytes;
+    {
+      std::ifstream in(entry.path(), std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::string step(reinterpret_cast<const char*>(&built.grid.step_rad), sizeof(double));
+    const size_t at = bytes.rfind(step);  // the grid's step, then its two sizes
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(bytes.compare(at + 8, 4, reinterpret_cast<const char*>(&built.grid.n_theta), 4), 0);
+    const int32_t rows = 99999;
+    bytes.replace(at + 8, 4, reinterpret_cast<const char*>(&rows), 4);
+    std::ofstream(entry.path(), std::ios::binary) << bytes;
+  }
+  const RigMaps after_bad_size = LoadOrBuildRigMaps(shared.optics, dir);
+  EXPECT_EQ(after_bad_size.grid.n_theta, built.grid.n_theta);
+  ASSERT_EQ(after_bad_size.grid.xy.size(), built.grid.xy.size());
+  // Bit for bit (uncovered nodes are NaN, which == would call unequal).
+  EXPECT_EQ(std::memcmp(after_bad_size.grid.xy.data(), built.grid.xy.data(),
+                        built.grid.xy.size() * sizeof(float)),
+            0);
   std::filesystem::remove_all(dir);
 }
 
