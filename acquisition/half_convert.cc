@@ -1,5 +1,7 @@
 #include "acquisition/half_convert.h"
 
+#include "basis/cpu_features.h"
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 #define ZBRDF_HAVE_F16C_PATH 1
@@ -13,14 +15,6 @@ void FloatsToHalfScalar(const float* in, size_t n, half* out) {
 }
 
 #ifdef ZBRDF_HAVE_F16C_PATH
-bool CpuHasF16c() {
-  static const bool have = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("f16c") != 0 && __builtin_cpu_supports("avx") != 0;
-  }();
-  return have;
-}
-
 __attribute__((target("avx,f16c"))) void FloatsToHalfF16c(const float* in, size_t n, half* out) {
   size_t k = 0;
   for (; k + 8 <= n; k += 8) {

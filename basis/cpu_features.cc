@@ -14,4 +14,16 @@ bool CpuHasAvx2() {
 #endif
 }
 
+bool CpuHasF16c() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool have = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("f16c") != 0 && __builtin_cpu_supports("avx") != 0;
+  }();
+  return have;
+#else
+  return false;
+#endif
+}
+
 }  // namespace zbrdf

@@ -6,5 +6,7 @@ namespace zbrdf {
 
 // True if the CPU has AVX2 (x86-64 with GCC or Clang; false elsewhere). Asked once.
 bool CpuHasAvx2();
+// True if the CPU has F16C, the float <-> half conversions (and AVX, whose registers they use).
+bool CpuHasF16c();
 
 }  // namespace zbrdf

@@ -367,6 +367,13 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::FromFile(const std::string& path) {
 namespace {
 // f = max(exp(y) - 1, 0): the network's output map.
 inline double OutputMap(double y) { return std::max(std::exp(y) - 1.0, 0.0); }
+// The colour of pair k of a block's outputs y (row c: channel c).
+template <typename T>
+Rgb OutputRgb(const T* y, int k) {
+  static_assert(kOutputs == 3, "a colour per pair");
+  return {OutputMap(static_cast<double>(y[k])), OutputMap(static_cast<double>(y[kBlock + k])),
+          OutputMap(static_cast<double>(y[2 * kBlock + k]))};
+}
 }  // namespace
 
 template <typename T>
@@ -417,16 +424,7 @@ namespace {
 template <typename T>
 auto RgbOutput(std::span<Rgb> f) {
   return [f](size_t start, int count, const T* y, const bool* valid) {
-    for (int k = 0; k < count; ++k) {
-      Rgb& v = f[start + k];
-      if (!valid[k]) {
-        v = Rgb();
-        continue;
-      }
-      for (int c = 0; c < kOutputs; ++c) {
-        v[c] = OutputMap(static_cast<double>(y[c * kBlock + k]));
-      }
-    }
+    for (int k = 0; k < count; ++k) f[start + k] = valid[k] ? OutputRgb(y, k) : Rgb();
   };
 }
 
@@ -451,12 +449,8 @@ void NbrdfBrdf::EvalChannelBatchSinglePrecision(std::span<const Vec3> w_i,
                "EvalChannelBatchSinglePrecision: size mismatch or channel outside -1..2");
   if (channel < 0) {
     EvalBatchIn<float>(w_i, w_o, [&](size_t start, int count, const float* y, const bool* valid) {
-      for (int k = 0; k < count; ++k) {
-        value[start + k] =
-            valid[k] ? Rgb{OutputMap(y[k]), OutputMap(y[kBlock + k]), OutputMap(y[2 * kBlock + k])}
-                           .Luminance()
-                     : 0.0;
-      }
+      for (int k = 0; k < count; ++k)
+        value[start + k] = valid[k] ? OutputRgb(y, k).Luminance() : 0.0;
     });
     return;
   }

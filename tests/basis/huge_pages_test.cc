@@ -48,7 +48,9 @@ TEST(HugePagesTest, AssignGivesTheValuesWhateverThePages) {
     AssignInHugePages(&v, n, 0.5f);
     ASSERT_EQ(v.size(), n);
     for (size_t k = 0; k < n; k += 4099) ASSERT_EQ(v[k], 0.5f) << k;
-    if (n > 0) EXPECT_EQ(v.back(), 0.5f);
+    if (n > 0) {
+      EXPECT_EQ(v.back(), 0.5f);
+    }
   }
   AdviseHugePages(nullptr, 0);  // nothing to advise: no effect
 }

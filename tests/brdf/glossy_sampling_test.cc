@@ -106,7 +106,9 @@ TEST(GlossySamplingTest, PreparedViewOfTheProxyMatchesTheDerivationFromTheMixtur
       // w_i + w_o normalized, which loses its z to cancellation when w_i lies below the
       // horizon as far as w_o above it (such w_i carry no light; 4 of this test's 900 samples
       // differed there, by up to 2e-9 relative): compared above the horizon.
-      if (direct.w_i.z > 0) EXPECT_NEAR(direct.pdf, derived.pdf, 1e-12 * (1 + derived.pdf)) << spec;
+      if (direct.w_i.z > 0) {
+        EXPECT_NEAR(direct.pdf, derived.pdf, 1e-12 * (1 + derived.pdf)) << spec;
+      }
       const Vec3 w_i = testing::RandomUpperDirection(rng);
       EXPECT_NEAR(brdf->GlossyPdfAt(view, w_i), brdf->Brdf::GlossyPdfAt(base, w_i),
                   1e-12 * (1 + brdf->Brdf::GlossyPdfAt(base, w_i)))
