@@ -246,11 +246,12 @@ GroundTruth TrueZonalCoefficientsCached(const Brdf& material, const ZonalData& l
                                         const std::string& cache_dir) {
   if (cache_dir.empty()) return TrueZonalCoefficients(material, layout, options);
   options.Validate();
-  // Bump the version when TrueZonalCoefficients changes its values for the same inputs.
+  // Bump the version when TrueZonalCoefficients changes its values for the same inputs (v7:
+  // the half-vector proxy's lobe is the nearer probe's, brdf/proxy_sampler.h).
   char text[320];
   const ExitantGrid& g = layout.grid;
   std::snprintf(text, sizeof(text),
-                "zbrdf truth v6 zone %.17g %.17g grid %.17g %.17g %.17g %.17g %d %d order %d "
+                "zbrdf truth v7 zone %.17g %.17g grid %.17g %.17g %.17g %.17g %d %d order %d "
                 "samples %d phi_stride %d seed %llu material ",
                 layout.theta_min_rad, layout.theta_max_rad, g.theta_min_rad, g.theta_max_rad,
                 g.theta_step_rad, g.phi_step_rad, g.n_theta, g.n_phi, layout.order, options.samples,

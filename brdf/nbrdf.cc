@@ -315,7 +315,7 @@ namespace {
 // Bundled materials already read by this process, by resolved path, with their fitted proxy
 // samplers: the files are read-only data, so a second FromName of a material (a test suite, a
 // batch, the fuzz target of material specs) costs a copy of its weights instead of parsing the
-// file and the sampler's ~8500 network evaluations. At most the bundled sets' 118 entries of a
+// file and the sampler's ~16000 network evaluations. At most the bundled sets' 118 entries of a
 // few tens of kB.
 struct BundledNetwork {
   NbrdfNetwork network;

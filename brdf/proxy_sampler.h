@@ -2,19 +2,22 @@
 // measured-material networks), in the spirit of the D-BRDF (Ashikhmin & Premoze 2007):
 // tabulated distributions of half vectors, reflected about w_o, mixed with cosine sampling.
 //
-// At construction the BRDF is probed for 11 viewing angles theta_o (0 .. 1.5 rad): for each,
+// At construction the BRDF is probed for 21 viewing angles theta_o (0 .. 1.5 rad): for each,
 // along half-vector angles theta_h (128 cells, finer near the normal: theta_h = (pi/2) x^2 for
 // x uniform) at 6 azimuths phi_h, with w_i = w_o reflected about h. The luminance above the
 // BRDF's floor (its minimum over the probes) becomes that viewing angle's half-vector density
 // p_h (piecewise constant in cos theta_h, uniform in phi_h), and the lobe's share of the energy
 // its lobe probability P (in [0.05, 0.95] when the lobe has energy, 0 without one). Reflecting
 // w_o about h places the lobe correctly for every w_o, off-specular peaks included. For a
-// viewing angle between two probes the proposal is their mixture with linear weights a_j:
-//   p(w_i) = sum_j a_j [P_j p_h,j(h) / (4 |w_o.h|) + (1 - P_j) max(0, cos theta_i) / pi].
-// Sample() draws the glossy part for u_lobe < sum_j a_j P_j, as Brdf::SampleGlossy expects.
+// viewing angle between two probes k and k + 1 (linear weights a_k, a_k+1) the lobe probability
+// is interpolated, P = a_k P_k + a_k+1 P_k+1, and the lobe is the nearer probe's, n:
+//   p(w_i) = P p_h,n(h) / (4 |w_o.h|) + (1 - P) max(0, cos theta_i) / pi.
+// (A mixture of both probes' lobes, drawn by a random choice per sample, broke the
+// stratification of the simulator's point sets; the nearer lobe is at most 2.15 deg of theta_o
+// away.) Sample() draws the glossy part for u_lobe < P, as Brdf::SampleGlossy expects.
 //
 // It is only a proposal for Monte Carlo with multiple importance sampling: Pdf() is exactly the
-// density Sample() draws from. Probing costs about 8500 evaluations of the BRDF.
+// density Sample() draws from. Probing costs about 16000 evaluations of the BRDF.
 #pragma once
 
 #include <array>
@@ -37,10 +40,10 @@ class HalfVectorProxySampler {
 
   // sum_j a_j P_j: the probability of sampling a half-vector lobe for this viewing direction.
   double LobeProbability(const Vec3& w_o) const;
-  // The lobes alone, for Brdf::PrepareGlossy, SampleGlossyAt and GlossyPdfAt of the models it
-  // samples: the view keeps the mixture (index: the lower probe k; weight: a_k P_k and
-  // a_k+1 P_k+1; probability: their sum), and the lobes' density sum_j a_j P_j p_h,j(h) /
-  // (4 |w_o.h|) / sum_j a_j P_j is taken without the cosine part.
+  // The lobe alone, for Brdf::PrepareGlossy, SampleGlossyAt and GlossyPdfAt of the models it
+  // samples: the view keeps the probes (index: the lower probe k; weight: P on the nearer
+  // probe's side, 0 on the other; probability: P), and the lobe's density p_h,n(h) /
+  // (4 |w_o.h|) is taken without the cosine part.
   Brdf::GlossyView PrepareLobe(const Vec3& w_o) const;
   BrdfSample SampleLobe(const Brdf::GlossyView& view, double u_lobe, double u0, double u1) const;
   double LobePdf(const Brdf::GlossyView& view, const Vec3& w_i) const;
@@ -106,7 +109,7 @@ class ProxySampledBrdf : public Brdf {
   const HalfVectorProxySampler& sampler() const { return *sampler_; }
 
  protected:
-  // Probes this BRDF's Eval (about 8500 evaluations).
+  // Probes this BRDF's Eval (about 16000 evaluations).
   void FitProxySampler() { sampler_ = std::make_shared<const HalfVectorProxySampler>(*this); }
   std::shared_ptr<const HalfVectorProxySampler> sampler_;
 };

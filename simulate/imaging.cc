@@ -256,7 +256,8 @@ ForwardModel::ForwardModel(const OpticalSystem& optics, const RigMaps& maps, con
                                         rig.sensor.quantum_efficiency * kPhotonsPerJoule550nm;
     }
   }
-  const bool use_cache = !options_.cache_dir.empty() && options_.cache_max_bytes > 0;
+  const bool use_cache = !options_.cache_dir.empty() && options_.cache_max_bytes > 0 &&
+                         options_.strategies == ForwardModelOptions::Strategies::kBoth;
   std::string key, path;
   if (use_cache) {
     key = CacheKey(material);
@@ -311,7 +312,9 @@ namespace {
 constexpr char kTransportMagic[8] = {'Z', 'B', 'R', 'D', 'F', 'T', 'R', 'N'};
 constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
-constexpr uint32_t kTransportVersion = 6;
+// 7: the control variate's probes no longer depend on the seed; the half-vector proxy's lobe is
+// the nearer probe's (brdf/proxy_sampler.h).
+constexpr uint32_t kTransportVersion = 7;
 
 template <typename T>
 std::string_view Bytes(const std::vector<T>& v) {
@@ -485,7 +488,10 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   constexpr int kProbes = 64;
   std::vector<Vec3> probes;
   {
-    uint64_t state = HashMix(options_.seed ^ 0x9b0be5ull);
+    // The same probes for every seed (those seed 1 has always had): the coefficients need not
+    // vary with the samples' seed, and with one control the strategies' parts of two seeds
+    // estimate the same integrals (bench_simulate's BM_TransportConvergence compares them).
+    uint64_t state = HashMix(1 ^ 0x9b0be5ull);
     PointSet2 points;
     ScrambledHammersley(kProbes, state, &points);
     for (int i = 0; i < kProbes; ++i) probes.push_back(coverage.Sample(points.u[i], points.v[i]));
@@ -503,7 +509,15 @@ void ForwardModel::BuildTransport(const Brdf& material) {
   weight_scale_.assign(pixels, 0.0f);
   std::vector<int64_t> count(pixels, 0);  // entries per camera pixel (each written by one thread)
   std::atomic<long> rows_done{0};
+  using Strategies = ForwardModelOptions::Strategies;
+  const bool keep_zone =
+      options_.strategies == Strategies::kBoth || options_.strategies == Strategies::kZoneOnly;
+  const bool keep_lobe =
+      options_.strategies == Strategies::kBoth || options_.strategies == Strategies::kLobeOnly;
+  std::mutex counts_mutex;
+  sample_counts_ = {};
   ParallelFor(height, 2, [&](int64_t y0, int64_t y1) {
+    SampleCounts counts;
     std::vector<Entry> entries, sort_scratch;
     PointSet2 jitter, aperture, zone_dirs, lobe_dirs;
     std::vector<OpticalSystem::SamplePath> paths(n_aperture);
@@ -559,13 +573,22 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
             const BrdfSample bs = material.Sample(path.w, 0.5, lobe_dirs.u[s], lobe_dirs.v[s]);
-            if (bs.pdf <= 0 || !bs.is_delta || bs.w_i.z <= 0) continue;
+            if (bs.pdf <= 0 || !bs.is_delta) continue;
+            ++counts.lobe;
+            if (bs.w_i.z <= 0) {
+              ++counts.lobe_below_horizon;
+              continue;
+            }
             auto& [traced_w_i, index] = traced[s % landed];
             if (!(traced_w_i == bs.w_i)) {
               traced_w_i = bs.w_i;
               index = projector_pixel(path.landing_point, bs.w_i, true);
             }
-            if (index < 0) continue;
+            if (index < 0) {
+              ++counts.lobe_unlit;
+              continue;
+            }
+            if (!keep_lobe) continue;  // a diagnostic's split
             const double r =
                 channel < 0 ? bs.delta_reflectance.Luminance() : bs.delta_reflectance[channel];
             entries.push_back({static_cast<uint32_t>(index), static_cast<float>(k_pixel * r / n)});
@@ -629,24 +652,33 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             double phi_i = -1;   // the zone sampler's azimuth of w_i, else computed below
             if (uniform) {
               w_i = coverage.Sample(zone_dirs.u[s], zone_dirs.v[s], &phi_i);
+              ++counts.zone;
             } else {
               const int j = s - n_zone;
               const double u_lobe = WrapUnit((j + lobe_shift) / n_lobe);
               const BrdfSample bs =
                   material.SampleGlossyAt(view, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
               if (bs.pdf <= 0 || bs.is_delta) continue;
+              ++counts.lobe;
               w_i = bs.w_i;
               p_lobe = bs.pdf;  // SampleGlossyAt's pdf is GlossyPdfAt(view, w_i): not computed twice
             }
-            if (w_i.z <= 0) continue;
+            if (w_i.z <= 0) {
+              counts.lobe_below_horizon += !uniform;
+              continue;
+            }
             const double theta_i = SphericalTheta(w_i);
             if (phi_i < 0) phi_i = TableSphericalPhi(w_i);
             const double p_zone = coverage.PdfAngles(w_i, theta_i, phi_i);
-            if (p_zone <= 0) continue;  // not lit
+            if (p_zone <= 0) {  // not lit
+              counts.lobe_unlit += !uniform;
+              continue;
+            }
             if (n_lobe > 0 && p_lobe < 0) p_lobe = material.GlossyPdfAt(view, w_i);
             const double q = n_zone * p_zone + (n_lobe > 0 ? n_lobe * p_lobe : 0.0);
             weight[m] = 1.0 / q;  // balance heuristic: f cos / (n_zone p_zone + n_lobe p_lobe)
             if (!(weight[m] > 0) || !std::isfinite(weight[m])) continue;
+            if (!(uniform ? keep_zone : keep_lobe)) continue;  // a diagnostic's split
             w_in[m] = w_i;
             w_out[m] = path.w;
             angles[m] = {theta_i, phi_i};
@@ -690,6 +722,11 @@ void ForwardModel::BuildTransport(const Brdf& material) {
       }
       Report(options_.progress, {"transport", ++rows_done, height, "rows"});
     }
+    std::lock_guard<std::mutex> lock(counts_mutex);
+    sample_counts_.zone += counts.zone;
+    sample_counts_.lobe += counts.lobe;
+    sample_counts_.lobe_below_horizon += counts.lobe_below_horizon;
+    sample_counts_.lobe_unlit += counts.lobe_unlit;
   });
   // Flatten rows into CSR, in pixel order (deterministic regardless of threading).
   row_begin_.assign(pixels + 1, 0);

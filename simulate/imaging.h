@@ -60,6 +60,14 @@ struct ForwardModelOptions {
   // The cache folder is trimmed to this many bytes after a write, least recently used entries
   // first; an entry larger than this is not written. 0: the cache is neither read nor written.
   uint64_t cache_max_bytes = DefaultTransportCacheBytes();
+  // Which of the transport's two sampling strategies keep their samples (a diagnostic of where
+  // its Monte Carlo error comes from; docs/simulator.md, "Where the transport's error comes
+  // from"). Samples are drawn and weighted as always (balance heuristic), and those of a
+  // strategy left out are dropped, so the frames of kZoneOnly and kLobeOnly add up to those of
+  // kBoth plus those of kControlOnly (the control variate's exact part, in each of them). Any
+  // value other than kBoth builds the transport without the cache.
+  enum class Strategies { kBoth, kZoneOnly, kLobeOnly, kControlOnly };
+  Strategies strategies = Strategies::kBoth;
 
   // Throws InvalidOptions (an InputError) naming every field out of range and the values it
   // accepts (basis/option_checker.h).
@@ -113,6 +121,17 @@ class ForwardModel {
   // than 65535 apart (rare).
   size_t transport_entries() const { return packed_.size(); }
 
+  // What the sampling did while the transport was built (all zero when it came from the
+  // cache). Lobe samples are those drawn from the material's glossy sampler; of them, those
+  // that point below the horizon or outside the lit zone carry no light and are dropped.
+  struct SampleCounts {
+    int64_t zone = 0;  // drawn over the lit zone, cosine-weighted
+    int64_t lobe = 0;  // drawn from the glossy sampler (a pdf > 0)
+    int64_t lobe_below_horizon = 0;
+    int64_t lobe_unlit = 0;  // above the horizon, outside the lit zone
+  };
+  const SampleCounts& sample_counts() const { return sample_counts_; }
+
   double build_seconds() const { return build_seconds_; }
   // Whether the transport came from the cache (else it was built, and written there if allowed).
   bool from_cache() const { return from_cache_; }
@@ -162,6 +181,7 @@ class ForwardModel {
   std::vector<TransportEntry> packed_;
   // Per camera pixel, kFootprintMoments control-variate coefficients times the pixel's constant.
   std::vector<float> control_;
+  SampleCounts sample_counts_;
   double build_seconds_ = 0;
   bool from_cache_ = false;
   std::string cache_path_;                // the cache entry being written, if any

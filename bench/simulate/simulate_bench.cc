@@ -165,3 +165,91 @@ BENCHMARK(BM_SimulatedSession)
 
 }  // namespace
 }  // namespace zbrdf
+
+namespace zbrdf {
+namespace {
+
+// Where the transport's Monte Carlo error comes from (docs/simulator.md, "Where the transport's
+// error comes from"): frames of the fast preset at `samples` per pixel (seed 5) against 16x the
+// samples (seed 6), every 12th camera row, under a uniform white pattern; relative RMS over the
+// valid pixels of the whole frame (error_pct, the convergence test's measure), of the zone
+// strategy's part (zone_pct) and of the glossy lobe strategy's part (lobe_pct), each part
+// relative to the whole frame; and the share of lobe samples that point below the horizon or
+// outside the lit zone (lobe_wasted). Arguments: material (0 merl:blue-acrylic, 1
+// ggx:alpha=0.05,F0=0.04,kd=0.1, 2 merl:gold-metallic-paint, 3 merl:white-paint), samples.
+void BM_TransportConvergence(benchmark::State& state) {
+  static const char* const kMaterials[] = {"merl:blue-acrylic", "ggx:alpha=0.05,F0=0.04,kd=0.1",
+                                           "merl:gold-metallic-paint", "merl:white-paint"};
+  const Setup setup(Preset::kFast);
+  const auto material = MakeBrdf(kMaterials[state.range(0)]);
+  using Strategies = ForwardModelOptions::Strategies;
+  Pattern white = setup.Gray();
+  std::fill(white.levels.begin(), white.levels.end(), static_cast<uint16_t>(255));
+  // The zone and lobe parts of a transport's frame (the control variate's exact part, the same
+  // for every seed, taken out of both), and its sample counts.
+  struct Parts {
+    std::vector<float> zone, lobe;
+    ForwardModel::SampleCounts counts;
+  };
+  auto parts = [&](int samples, uint64_t seed, const std::vector<float>& control) {
+    Rig rig = setup.rig;
+    rig.simulation.samples_per_pixel = samples;
+    const OpticalSystem optics(rig);
+    Parts out;
+    for (Strategies s : {Strategies::kZoneOnly, Strategies::kLobeOnly}) {
+      ForwardModelOptions options;
+      options.seed = seed;
+      options.row_stride = 12;
+      options.strategies = s;
+      const ForwardModel model(optics, setup.maps, *material, options);
+      std::vector<float> rate = model.ElectronRate(white);
+      for (size_t i = 0; i < rate.size(); ++i) rate[i] -= control[i];
+      (s == Strategies::kZoneOnly ? out.zone : out.lobe) = std::move(rate);
+      out.counts = model.sample_counts();
+    }
+    return out;
+  };
+  const int samples = static_cast<int>(state.range(1));
+  std::vector<float> control;
+  {
+    ForwardModelOptions options;
+    options.row_stride = 12;
+    options.strategies = Strategies::kControlOnly;
+    control = ForwardModel(setup.optics, setup.maps, *material, options).ElectronRate(white);
+  }
+  const Parts reference = parts(16 * samples, 6, control);
+  double error = 0, zone = 0, lobe = 0, wasted = 0;
+  for (auto _ : state) {
+    const Parts estimate = parts(samples, 5, control);
+    double num = 0, num_zone = 0, num_lobe = 0, den = 0;
+    for (size_t i = 0; i < control.size(); ++i) {
+      const int y = static_cast<int>(i) / setup.rig.camera.width;
+      if (y % 12 != 0 || !setup.maps.camera.Valid(static_cast<int>(i))) continue;
+      const double dz = double(estimate.zone[i]) - reference.zone[i];
+      const double dl = double(estimate.lobe[i]) - reference.lobe[i];
+      const double whole = double(reference.zone[i]) + reference.lobe[i] + control[i];
+      num += (dz + dl) * (dz + dl);
+      num_zone += dz * dz;
+      num_lobe += dl * dl;
+      den += whole * whole;
+    }
+    error = 100 * std::sqrt(num / den);
+    zone = 100 * std::sqrt(num_zone / den);
+    lobe = 100 * std::sqrt(num_lobe / den);
+    const auto& c = estimate.counts;
+    wasted = c.lobe > 0 ? double(c.lobe_below_horizon + c.lobe_unlit) / c.lobe : 0.0;
+  }
+  state.SetLabel(kMaterials[state.range(0)]);
+  state.counters["error_pct"] = error;
+  state.counters["zone_pct"] = zone;
+  state.counters["lobe_pct"] = lobe;
+  state.counters["lobe_wasted"] = wasted;
+}
+BENCHMARK(BM_TransportConvergence)
+    ->ArgsProduct({{0, 1, 2, 3}, {256, 512, 1024}})
+    ->ArgNames({"material", "samples"})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+}  // namespace
+}  // namespace zbrdf

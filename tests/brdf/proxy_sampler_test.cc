@@ -124,8 +124,9 @@ TEST(HalfVectorProxySamplerTest, LobeFollowsRoughnessAndKeepsACosineFloor) {
 
 TEST(HalfVectorProxySamplerTest, HalfVectorDensityIsItsCellsValueFoundByAcos) {
   // The density finds a half vector's theta_h cell without acos; here the cell is found the
-  // plain way (acos, then the first edge above theta_h) and the density mixed from the probes'
-  // tables by hand, for random half vectors and for ones just either side of every edge (1e-6
+  // plain way (acos, then the first edge above theta_h) and the density read by hand from the
+  // table of the probe nearer theta_o, for random half vectors and for ones just either side of
+  // every edge (1e-6
   // relative in theta_h: near the normal cos(theta_h) resolves theta_h only to ~1e-8 relative,
   // 1.1e-16 / theta_h^2, so a finer hair would test rounding, not the cell search).
   const ProxySampled ggx(std::make_unique<GgxBrdf>(0.1, 0.1, Rgb(0.5), Rgb(0.1)));
@@ -141,12 +142,9 @@ TEST(HalfVectorProxySamplerTest, HalfVectorDensityIsItsCellsValueFoundByAcos) {
     const int last_pair = static_cast<int>(proxy.probes().size()) - 2;
     const int k = std::min(static_cast<int>(theta_o / step), last_pair);
     const double a = 1 - (theta_o / step - k);
-    const auto& p0 = proxy.probes()[k];
-    const auto& p1 = proxy.probes()[k + 1];
-    const double w0 = a * p0.lobe_probability, w1 = (1 - a) * p1.lobe_probability;
-    const double d0 = p0.cells ? p0.cell_density[cell] : 0.0;
-    const double d1 = p1.cells ? p1.cell_density[cell] : 0.0;
-    return (w0 * d0 + w1 * d1) / (w0 + w1);
+    const auto& nearer = proxy.probes()[a >= 0.5 ? k : k + 1];
+    EXPECT_TRUE(nearer.cells != nullptr);  // this GGX has a lobe at every probe
+    return nearer.cell_density[cell];
   };
   testing::Rng rng(17);
   std::vector<double> thetas;
@@ -155,7 +153,9 @@ TEST(HalfVectorProxySamplerTest, HalfVectorDensityIsItsCellsValueFoundByAcos) {
     thetas.push_back(edges[e] * (1 + 1e-6));
     thetas.push_back(edges[e] * (1 - 1e-6));
   }
-  for (double theta_o : {0.0, 0.37, 1.2}) {
+  // theta_o 0.37 and 0.41 rad lie 4.93 and 5.47 probe steps (0.075 rad) up: nearer the probe
+  // above and the one below; 1.2 rad is on probe 16 (either rounding of 1.2 / 0.075 picks it).
+  for (double theta_o : {0.0, 0.37, 0.41, 1.2}) {
     for (double theta_h : thetas) {
       const Vec3 h = SphericalDirection(theta_h, 1.3);
       ASSERT_DOUBLE_EQ(proxy.HalfVectorPdf(theta_o, h), expected(theta_o, h))

@@ -248,6 +248,59 @@ TEST(ImagingTest, FramesConvergeForSharpMaterials) {
   }
 }
 
+// The diagnostic split of the transport by sampling strategy (ForwardModelOptions::strategies):
+// the samples are drawn and weighted the same way whatever is kept, so per pixel the zone part
+// plus the lobe part is the whole plus the control variate's exact part (in each of the four).
+// What separates them is the 16-bit packing of each pixel's entries (at most 1.5e-5 of the
+// pixel's largest entry per entry): 1e-4 of the frame, relative RMS, bounds it with margin.
+TEST(ImagingTest, TheStrategiesSplitAddsUpToTheWholeTransport) {
+  const auto& shared = testing::SharedFastThesisRig();
+  const auto material = MakeBrdf("merl:blue-acrylic");
+  using Strategies = ForwardModelOptions::Strategies;
+  const std::vector<Pattern> patterns = {Uniform(shared.rig, 255),
+                                         BasisLike(shared.rig, shared.maps.projector)};
+  std::vector<std::vector<std::vector<float>>> rates;  // [strategy][pattern]
+  std::vector<ForwardModel::SampleCounts> counts;
+  for (Strategies s : {Strategies::kBoth, Strategies::kZoneOnly, Strategies::kLobeOnly,
+                       Strategies::kControlOnly}) {
+    ForwardModelOptions options;
+    options.row_stride = 12;
+    options.strategies = s;
+    const ForwardModel model(shared.optics, shared.maps, *material, options);
+    EXPECT_FALSE(model.from_cache());
+    rates.push_back({});
+    for (const Pattern& p : patterns) rates.back().push_back(model.ElectronRate(p));
+    counts.push_back(model.sample_counts());
+  }
+  for (size_t k = 0; k < patterns.size(); ++k) {
+    const auto &both = rates[0][k], &zone = rates[1][k], &lobe = rates[2][k],
+               &control = rates[3][k];
+    double num = 0, den = 0, lobe_part = 0;
+    for (size_t i = 0; i < both.size(); ++i) {
+      const double d = double(zone[i]) + lobe[i] - control[i] - both[i];
+      num += d * d;
+      den += double(both[i]) * both[i];
+      lobe_part += (double(lobe[i]) - control[i]) * (double(lobe[i]) - control[i]);
+    }
+    ASSERT_GT(den, 0);
+    EXPECT_LT(std::sqrt(num / den), 1e-4) << "pattern " << k;
+    // Neither part is trivially zero: the split separates something.
+    EXPECT_GT(std::sqrt(lobe_part / den), 0.01) << "pattern " << k;
+  }
+  // The same samples are drawn whatever is kept; a glossy sampler's samples partly miss.
+  for (const auto& c : counts) {
+    EXPECT_EQ(c.zone, counts[0].zone);
+    EXPECT_EQ(c.lobe, counts[0].lobe);
+    EXPECT_EQ(c.lobe_below_horizon, counts[0].lobe_below_horizon);
+    EXPECT_EQ(c.lobe_unlit, counts[0].lobe_unlit);
+  }
+  EXPECT_GT(counts[0].zone, 0);
+  EXPECT_GT(counts[0].lobe, 0);
+  EXPECT_GT(counts[0].lobe_below_horizon, 0);
+  EXPECT_GT(counts[0].lobe_unlit, 0);
+  EXPECT_LT(counts[0].lobe_below_horizon + counts[0].lobe_unlit, counts[0].lobe);
+}
+
 TEST(ImagingTest, FlatMirrorShowsTheProjectorPixelAlongTheMirrorPath) {
   // With a mirror as the sample, a camera pixel sees the projector pixel at the end of its
   // reflected path. Pattern: each projector pixel's level encodes its column; the frame
