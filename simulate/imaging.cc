@@ -573,8 +573,11 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
             const BrdfSample bs = material.Sample(path.w, 0.5, lobe_dirs.u[s], lobe_dirs.v[s]);
-            if (bs.pdf <= 0 || !bs.is_delta) continue;
             ++counts.lobe;
+            if (bs.pdf <= 0 || !bs.is_delta) {
+              ++counts.lobe_no_sample;
+              continue;
+            }
             if (bs.w_i.z <= 0) {
               ++counts.lobe_below_horizon;
               continue;
@@ -658,8 +661,11 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               const double u_lobe = WrapUnit((j + lobe_shift) / n_lobe);
               const BrdfSample bs =
                   material.SampleGlossyAt(view, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
-              if (bs.pdf <= 0 || bs.is_delta) continue;
               ++counts.lobe;
+              if (bs.pdf <= 0 || bs.is_delta) {
+                ++counts.lobe_no_sample;
+                continue;
+              }
               w_i = bs.w_i;
               p_lobe = bs.pdf;  // SampleGlossyAt's pdf is GlossyPdfAt(view, w_i): not computed twice
             }
@@ -727,6 +733,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     sample_counts_.lobe += counts.lobe;
     sample_counts_.lobe_below_horizon += counts.lobe_below_horizon;
     sample_counts_.lobe_unlit += counts.lobe_unlit;
+    sample_counts_.lobe_no_sample += counts.lobe_no_sample;
   });
   // Flatten rows into CSR, in pixel order (deterministic regardless of threading).
   row_begin_.assign(pixels + 1, 0);

@@ -122,11 +122,12 @@ class ForwardModel {
   size_t transport_entries() const { return packed_.size(); }
 
   // What the sampling did while the transport was built (all zero when it came from the
-  // cache). Lobe samples are those drawn from the material's glossy sampler; of them, those
-  // that point below the horizon or outside the lit zone carry no light and are dropped.
+  // cache). Lobe samples are the draws from the material's glossy sampler; of them, those that
+  // gave no direction, or one below the horizon or outside the lit zone, carry no light.
   struct SampleCounts {
     int64_t zone = 0;  // drawn over the lit zone, cosine-weighted
-    int64_t lobe = 0;  // drawn from the glossy sampler (a pdf > 0)
+    int64_t lobe = 0;  // draws from the glossy sampler
+    int64_t lobe_no_sample = 0;  // of them: no direction (a pdf of 0)
     int64_t lobe_below_horizon = 0;
     int64_t lobe_unlit = 0;  // above the horizon, outside the lit zone
   };

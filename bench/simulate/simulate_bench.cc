@@ -174,9 +174,10 @@ namespace {
 // samples (seed 6), every 12th camera row, under a uniform white pattern; relative RMS over the
 // valid pixels of the whole frame (error_pct, the convergence test's measure), of the zone
 // strategy's part (zone_pct) and of the glossy lobe strategy's part (lobe_pct), each part
-// relative to the whole frame; and the share of lobe samples that point below the horizon or
-// outside the lit zone (lobe_wasted). Arguments: material (0 merl:blue-acrylic, 1
-// ggx:alpha=0.05,F0=0.04,kd=0.1, 2 merl:gold-metallic-paint, 3 merl:white-paint), samples.
+// relative to the whole frame; and the share of the glossy sampler's draws that give no
+// direction or one below the horizon or outside the lit zone (lobe_wasted). Arguments: material (0
+// merl:blue-acrylic, 1 ggx:alpha=0.05,F0=0.04,kd=0.1, 2 merl:gold-metallic-paint, 3
+// merl:white-paint), samples.
 void BM_TransportConvergence(benchmark::State& state) {
   static const char* const kMaterials[] = {"merl:blue-acrylic", "ggx:alpha=0.05,F0=0.04,kd=0.1",
                                            "merl:gold-metallic-paint", "merl:white-paint"};
@@ -237,7 +238,8 @@ void BM_TransportConvergence(benchmark::State& state) {
     zone = 100 * std::sqrt(num_zone / den);
     lobe = 100 * std::sqrt(num_lobe / den);
     const auto& c = estimate.counts;
-    wasted = c.lobe > 0 ? double(c.lobe_below_horizon + c.lobe_unlit) / c.lobe : 0.0;
+    wasted =
+        c.lobe > 0 ? double(c.lobe_no_sample + c.lobe_below_horizon + c.lobe_unlit) / c.lobe : 0.0;
   }
   state.SetLabel(kMaterials[state.range(0)]);
   state.counters["error_pct"] = error;

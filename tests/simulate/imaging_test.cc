@@ -287,18 +287,22 @@ TEST(ImagingTest, TheStrategiesSplitAddsUpToTheWholeTransport) {
     // Neither part is trivially zero: the split separates something.
     EXPECT_GT(std::sqrt(lobe_part / den), 0.01) << "pattern " << k;
   }
-  // The same samples are drawn whatever is kept; a glossy sampler's samples partly miss.
+  // The same samples are drawn whatever is kept.
   for (const auto& c : counts) {
     EXPECT_EQ(c.zone, counts[0].zone);
     EXPECT_EQ(c.lobe, counts[0].lobe);
     EXPECT_EQ(c.lobe_below_horizon, counts[0].lobe_below_horizon);
     EXPECT_EQ(c.lobe_unlit, counts[0].lobe_unlit);
   }
-  EXPECT_GT(counts[0].zone, 0);
-  EXPECT_GT(counts[0].lobe, 0);
-  EXPECT_GT(counts[0].lobe_below_horizon, 0);
-  EXPECT_GT(counts[0].lobe_unlit, 0);
-  EXPECT_LT(counts[0].lobe_below_horizon + counts[0].lobe_unlit, counts[0].lobe);
+  // Blue-acrylic's glossy samples are lost partly below the horizon and partly outside the lit
+  // zone (measured: 20% and 29% of the draws), and a draw always gives a direction.
+  const ForwardModel::SampleCounts& c = counts[0];
+  EXPECT_GT(c.zone, 0);
+  EXPECT_GT(c.lobe, 0);
+  EXPECT_EQ(c.lobe_no_sample, 0);
+  EXPECT_GT(c.lobe_below_horizon, c.lobe / 10);
+  EXPECT_GT(c.lobe_unlit, c.lobe / 10);
+  EXPECT_LT(c.lobe_below_horizon + c.lobe_unlit, c.lobe);
 }
 
 TEST(ImagingTest, FlatMirrorShowsTheProjectorPixelAlongTheMirrorPath) {
