@@ -95,10 +95,9 @@ class Brdf {
   struct GlossyView {
     Vec3 w_o;
     double probability = 0;  // GlossyProbability(w_o)
-    // What a model's PrepareGlossy keeps for later calls (the half-vector proxy: the two
-    // probes around theta_o and their lobes' weights); unused by the default.
+    // What a model's PrepareGlossy keeps for later calls (the half-vector proxy: the probe
+    // whose lobe serves theta_o); unused by the default.
     int index = 0;
-    double weight[2] = {0, 0};
   };
   virtual GlossyView PrepareGlossy(const Vec3& w_o) const;
   virtual BrdfSample SampleGlossyAt(const GlossyView& view, double u_lobe, double u0,

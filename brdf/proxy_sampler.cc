@@ -98,7 +98,7 @@ HalfVectorProxySampler::HalfVectorProxySampler(const Brdf& brdf) {
   }
 }
 
-HalfVectorProxySampler::Mixture HalfVectorProxySampler::MixtureAt(double theta_o_rad) const {
+HalfVectorProxySampler::Lobe HalfVectorProxySampler::LobeAt(double theta_o_rad) const {
   // The two probes around theta_o: the lobe probability interpolated linearly (weights a and
   // 1 - a), the lobe itself the nearer probe's (the other's where only one has a lobe). A
   // mixture of both lobes, chosen at random per sample, cost the simulator's transport 1.6x
@@ -106,14 +106,14 @@ HalfVectorProxySampler::Mixture HalfVectorProxySampler::MixtureAt(double theta_o
   // transport's error comes from"): the random choice splits any stratified point set into
   // two unstratified halves.
   const double t = std::clamp(theta_o_rad * (1.0 / kProbeStep), 0.0, kProbes - 1.0);
-  Mixture m;
-  m.k = std::min(static_cast<int>(t), kProbes - 2);
-  const double a = 1.0 - (t - m.k);
-  const Probe &lower = probes_[m.k], &upper = probes_[m.k + 1];
-  const double p = a * lower.lobe_probability + (1 - a) * upper.lobe_probability;
+  const int k = std::min(static_cast<int>(t), kProbes - 2);
+  const double a = 1.0 - (t - k);
+  const Probe &lower = probes_[k], &upper = probes_[k + 1];
+  Lobe lobe;
+  lobe.probability = a * lower.lobe_probability + (1 - a) * upper.lobe_probability;
   const bool use_lower = upper.cells == nullptr || (lower.cells != nullptr && a >= 0.5);
-  (use_lower ? m.pk : m.pk1) = p;
-  return m;
+  lobe.probe = use_lower ? k : k + 1;
+  return lobe;
 }
 
 Vec3 HalfVectorProxySampler::SampleHalfVector(const Probe& probe, double u0, double u1,
@@ -161,92 +161,81 @@ int HalfVectorProxySampler::GuideBucket(double u) {
 
 double HalfVectorProxySampler::LobeProbability(const Vec3& w_o) const {
   if (w_o.z <= 0) return 0.0;
-  const Mixture m = MixtureAt(SphericalTheta(w_o));
-  return m.pk + m.pk1;
+  return LobeAt(SphericalTheta(w_o)).probability;
 }
 
-double HalfVectorProxySampler::LobeDensity(const Mixture& m, const Vec3& h) const {
-  if (!(m.pk + m.pk1 > 0) || h.z < 0) return 0.0;
-  return LobeDensityInCell(m, CellOf(h));  // the theta_h cell once for both probes
+double HalfVectorProxySampler::LobeDensity(const Lobe& lobe, const Vec3& h) const {
+  if (!(lobe.probability > 0) || h.z < 0) return 0.0;
+  return LobeDensityInCell(lobe, CellOf(h));
 }
 
-double HalfVectorProxySampler::LobeDensityInCell(const Mixture& m, int cell) const {
-  const auto density = [&](const Probe& probe) {
-    return probe.cells ? probe.cell_density[cell] : 0.0;
-  };
-  return (m.pk * density(probes_[m.k]) + m.pk1 * density(probes_[m.k + 1])) / (m.pk + m.pk1);
+double HalfVectorProxySampler::LobeDensityInCell(const Lobe& lobe, int cell) const {
+  // A lobe probability above 0 comes with a probe that has a lobe (LobeAt).
+  return probes_[lobe.probe].cell_density[cell];
 }
 
 double HalfVectorProxySampler::HalfVectorPdf(double theta_o_rad, const Vec3& h) const {
-  return LobeDensity(MixtureAt(theta_o_rad), h);
+  return LobeDensity(LobeAt(theta_o_rad), h);
 }
 
-double HalfVectorProxySampler::LobePdfOf(const Mixture& m, const Vec3& w_o,
-                                         const Vec3& w_i) const {
+double HalfVectorProxySampler::LobePdfOf(const Lobe& lobe, const Vec3& w_o, const Vec3& w_i) const {
   Vec3 h;
-  if (!(m.pk + m.pk1 > 0) || !UpperHalfVector(w_i, w_o, &h)) return 0.0;
-  return HalfVectorToIncidentPdf(LobeDensity(m, h), w_o, h);
+  if (!(lobe.probability > 0) || !UpperHalfVector(w_i, w_o, &h)) return 0.0;
+  return HalfVectorToIncidentPdf(LobeDensity(lobe, h), w_o, h);
 }
 
-double HalfVectorProxySampler::PdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const {
-  const double p = m.pk + m.pk1;
-  return p * LobePdfOf(m, w_o, w_i) + (1.0 - p) * CosineHemispherePdf(w_i);
+double HalfVectorProxySampler::PdfOf(const Lobe& lobe, const Vec3& w_o, const Vec3& w_i) const {
+  const double p = lobe.probability;
+  return p * LobePdfOf(lobe, w_o, w_i) + (1.0 - p) * CosineHemispherePdf(w_i);
 }
 
 BrdfSample HalfVectorProxySampler::Sample(const Vec3& w_o, double u_lobe, double u0,
                                           double u1) const {
   BrdfSample s;
   if (w_o.z <= 0) return s;
-  const Mixture m = MixtureAt(SphericalTheta(w_o));
-  if (u_lobe < m.pk + m.pk1) {
-    // A lobe, chosen in proportion to a_j P_j.
-    const Probe& probe = u_lobe < m.pk ? probes_[m.k] : probes_[m.k + 1];
-    s.w_i = ReflectAboutHalfVector(w_o, SampleHalfVector(probe, u0, u1));
+  const Lobe lobe = LobeAt(SphericalTheta(w_o));
+  if (u_lobe < lobe.probability) {
+    s.w_i = ReflectAboutHalfVector(w_o, SampleHalfVector(probes_[lobe.probe], u0, u1));
   } else {
     s.w_i = SampleCosineHemisphere(u0, u1);
   }
-  s.pdf = PdfOf(m, w_o, s.w_i);
+  s.pdf = PdfOf(lobe, w_o, s.w_i);
   return s;
 }
 
 double HalfVectorProxySampler::Pdf(const Vec3& w_o, const Vec3& w_i) const {
   if (w_o.z <= 0) return 0.0;
-  return PdfOf(MixtureAt(SphericalTheta(w_o)), w_o, w_i);
+  return PdfOf(LobeAt(SphericalTheta(w_o)), w_o, w_i);
 }
 
 Brdf::GlossyView HalfVectorProxySampler::PrepareLobe(const Vec3& w_o) const {
   Brdf::GlossyView view;
   view.w_o = w_o;
   if (w_o.z <= 0) return view;
-  const Mixture m = MixtureAt(SphericalTheta(w_o));
-  view.index = m.k;
-  view.weight[0] = m.pk;
-  view.weight[1] = m.pk1;
-  view.probability = m.pk + m.pk1;
+  const Lobe lobe = LobeAt(SphericalTheta(w_o));
+  view.index = lobe.probe;
+  view.probability = lobe.probability;
   return view;
 }
 
-BrdfSample HalfVectorProxySampler::SampleLobe(const Brdf::GlossyView& view, double u_lobe,
+BrdfSample HalfVectorProxySampler::SampleLobe(const Brdf::GlossyView& view, double /*u_lobe*/,
                                               double u0, double u1) const {
   if (!(view.probability >= Brdf::kMinGlossyProbability)) return {};
-  const Mixture m{view.index, view.weight[0], view.weight[1]};
-  // As Sample() for u_lobe below sum_j a_j P_j: a lobe, chosen in proportion to a_j P_j.
-  const double u = std::min(u_lobe, 1.0 - 1e-12) * view.probability;
-  const Probe& probe = u < m.pk ? probes_[m.k] : probes_[m.k + 1];
+  const Lobe lobe{view.index, view.probability};
   int cell = 0;
-  const Vec3 h = SampleHalfVector(probe, u0, u1, &cell);
+  const Vec3 h = SampleHalfVector(probes_[lobe.probe], u0, u1, &cell);
   BrdfSample s;
   s.w_i = ReflectAboutHalfVector(view.w_o, h);
-  // LobePdfOf(m, w_o, w_i) without finding h again: the half vector drawn and the cell it was
-  // drawn in, where LobePdfOf normalizes w_i + w_o and searches its cell (the same h and cell
-  // but for rounding; 10% of a simulator's transport build).
-  s.pdf = HalfVectorToIncidentPdf(LobeDensityInCell(m, cell), view.w_o, h);
+  // LobePdfOf(lobe, w_o, w_i) without finding h again: the half vector drawn and the cell it
+  // was drawn in, where LobePdfOf normalizes w_i + w_o and searches its cell (the same h and
+  // cell but for rounding; 10% of a simulator's transport build).
+  s.pdf = HalfVectorToIncidentPdf(LobeDensityInCell(lobe, cell), view.w_o, h);
   return s;
 }
 
 double HalfVectorProxySampler::LobePdf(const Brdf::GlossyView& view, const Vec3& w_i) const {
   if (!(view.probability >= Brdf::kMinGlossyProbability)) return 0.0;
-  return LobePdfOf({view.index, view.weight[0], view.weight[1]}, view.w_o, w_i);
+  return LobePdfOf({view.index, view.probability}, view.w_o, w_i);
 }
 
 }  // namespace zbrdf

@@ -38,16 +38,16 @@ class HalfVectorProxySampler {
   BrdfSample Sample(const Vec3& w_o, double u_lobe, double u0, double u1) const;
   double Pdf(const Vec3& w_o, const Vec3& w_i) const;
 
-  // sum_j a_j P_j: the probability of sampling a half-vector lobe for this viewing direction.
+  // P: the probability of sampling the half-vector lobe for this viewing direction.
   double LobeProbability(const Vec3& w_o) const;
   // The lobe alone, for Brdf::PrepareGlossy, SampleGlossyAt and GlossyPdfAt of the models it
-  // samples: the view keeps the probes (index: the lower probe k; weight: P on the nearer
-  // probe's side, 0 on the other; probability: P), and the lobe's density p_h,n(h) /
-  // (4 |w_o.h|) is taken without the cosine part.
+  // samples: the view keeps the lobe (index: the nearer probe n; probability: P), SampleLobe
+  // draws from it whatever u_lobe, and the lobe's density p_h,n(h) / (4 |w_o.h|) is taken
+  // without the cosine part.
   Brdf::GlossyView PrepareLobe(const Vec3& w_o) const;
   BrdfSample SampleLobe(const Brdf::GlossyView& view, double u_lobe, double u0, double u1) const;
   double LobePdf(const Brdf::GlossyView& view, const Vec3& w_i) const;
-  // Solid-angle density of the half vector h drawn for viewing angle theta_o (the mixture).
+  // Solid-angle density of the half vector h drawn for viewing angle theta_o (its lobe's).
   double HalfVectorPdf(double theta_o_rad, const Vec3& h) const;
 
   struct Probe {
@@ -61,16 +61,16 @@ class HalfVectorProxySampler {
   const std::vector<double>& theta_edges() const { return theta_edges_; }
 
  private:
-  // The two probes k, k + 1 around a viewing angle and their lobes' weights a_j P_j.
-  struct Mixture {
-    int k = 0;
-    double pk = 0, pk1 = 0;
+  // A viewing angle's lobe: the nearer probe n (with a lobe) and the interpolated P.
+  struct Lobe {
+    int probe = 0;
+    double probability = 0;
   };
-  Mixture MixtureAt(double theta_o_rad) const;
-  double LobeDensity(const Mixture& m, const Vec3& h) const;  // the mixed p_h(h)
-  double LobeDensityInCell(const Mixture& m, int cell) const;  // the same for h in a cell
-  double PdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;
-  double LobePdfOf(const Mixture& m, const Vec3& w_o, const Vec3& w_i) const;  // lobes alone
+  Lobe LobeAt(double theta_o_rad) const;
+  double LobeDensity(const Lobe& lobe, const Vec3& h) const;   // p_h,n(h)
+  double LobeDensityInCell(const Lobe& lobe, int cell) const;  // the same for h in a cell
+  double PdfOf(const Lobe& lobe, const Vec3& w_o, const Vec3& w_i) const;
+  double LobePdfOf(const Lobe& lobe, const Vec3& w_o, const Vec3& w_i) const;  // lobe alone
   // A half vector from the probe's cell distribution; *cell (optional): the cell drawn.
   Vec3 SampleHalfVector(const Probe& probe, double u0, double u1, int* cell = nullptr) const;
   int CellOf(const Vec3& h) const;  // theta_h cell of h (h.z >= 0), by its cosine: no acos

@@ -570,10 +570,10 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           // A path's samples usually reflect along one direction (a mirror's does whatever the
           // random numbers): its exact trace is reused while the sampled direction repeats.
           traced.assign(landed, {Vec3{0, 0, -1}, -1});
+          counts.lobe += n;
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
             const BrdfSample bs = material.Sample(path.w, 0.5, lobe_dirs.u[s], lobe_dirs.v[s]);
-            ++counts.lobe;
             if (bs.pdf <= 0 || !bs.is_delta) {
               ++counts.lobe_no_sample;
               continue;
@@ -645,6 +645,8 @@ void ForwardModel::BuildTransport(const Brdf& material) {
           if (n_lobe > 0) {
             for (int a = 0; a < landed; ++a) views[a] = material.PrepareGlossy(paths[a].w);
           }
+          counts.zone += n_zone;  // one draw each, from the zone sampler then the glossy one
+          counts.lobe += n_lobe;
           int m = 0;  // samples kept for evaluation
           for (int s = 0; s < n; ++s) {
             const auto& path = paths[s % landed];
@@ -655,13 +657,11 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             double phi_i = -1;   // the zone sampler's azimuth of w_i, else computed below
             if (uniform) {
               w_i = coverage.Sample(zone_dirs.u[s], zone_dirs.v[s], &phi_i);
-              ++counts.zone;
             } else {
               const int j = s - n_zone;
               const double u_lobe = WrapUnit((j + lobe_shift) / n_lobe);
               const BrdfSample bs =
                   material.SampleGlossyAt(view, u_lobe, lobe_dirs.u[j], lobe_dirs.v[j]);
-              ++counts.lobe;
               if (bs.pdf <= 0 || bs.is_delta) {
                 ++counts.lobe_no_sample;
                 continue;
@@ -729,11 +729,7 @@ void ForwardModel::BuildTransport(const Brdf& material) {
       Report(options_.progress, {"transport", ++rows_done, height, "rows"});
     }
     std::lock_guard<std::mutex> lock(counts_mutex);
-    sample_counts_.zone += counts.zone;
-    sample_counts_.lobe += counts.lobe;
-    sample_counts_.lobe_below_horizon += counts.lobe_below_horizon;
-    sample_counts_.lobe_unlit += counts.lobe_unlit;
-    sample_counts_.lobe_no_sample += counts.lobe_no_sample;
+    sample_counts_ += counts;
   });
   // Flatten rows into CSR, in pixel order (deterministic regardless of threading).
   row_begin_.assign(pixels + 1, 0);

@@ -130,6 +130,16 @@ class ForwardModel {
     int64_t lobe_no_sample = 0;  // of them: no direction (a pdf of 0)
     int64_t lobe_below_horizon = 0;
     int64_t lobe_unlit = 0;  // above the horizon, outside the lit zone
+
+    SampleCounts& operator+=(const SampleCounts& o) {
+      zone += o.zone;
+      lobe += o.lobe;
+      lobe_no_sample += o.lobe_no_sample;
+      lobe_below_horizon += o.lobe_below_horizon;
+      lobe_unlit += o.lobe_unlit;
+      return *this;
+    }
+    bool operator==(const SampleCounts&) const = default;
   };
   const SampleCounts& sample_counts() const { return sample_counts_; }
 

@@ -28,12 +28,12 @@ struct Setup {
         optics(rig),
         maps(LoadOrBuildRigMaps(optics, DefaultCacheDir())),
         material(MakeBrdf("merl:blue-acrylic")) {}
-  Pattern Gray() const {
+  Pattern Uniform(uint16_t level) const {
     Pattern p;
     p.width = rig.projector.lens.width;
     p.height = rig.projector.lens.height;
     p.bit_depth = rig.projector.bit_depth;
-    p.levels.assign(static_cast<size_t>(p.width) * p.height, 128);
+    p.levels.assign(static_cast<size_t>(p.width) * p.height, level);
     return p;
   }
   Rig rig;
@@ -55,7 +55,7 @@ BENCHMARK(BM_TransportBuild)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iteratio
 void BM_Frame(benchmark::State& state) {
   const Setup setup(state.range(0) ? Preset::kFull : Preset::kFast);
   const ForwardModel model(setup.optics, setup.maps, *setup.material);
-  const Pattern pattern = setup.Gray();
+  const Pattern pattern = setup.Uniform(128);
   uint64_t key = 0;
   for (auto _ : state) {
     const Frame frame = model.Render(pattern, 10000, ++key, true);
@@ -184,8 +184,7 @@ void BM_TransportConvergence(benchmark::State& state) {
   const Setup setup(Preset::kFast);
   const auto material = MakeBrdf(kMaterials[state.range(0)]);
   using Strategies = ForwardModelOptions::Strategies;
-  Pattern white = setup.Gray();
-  std::fill(white.levels.begin(), white.levels.end(), static_cast<uint16_t>(255));
+  const Pattern white = setup.Uniform(255);
   // The zone and lobe parts of a transport's frame (the control variate's exact part, the same
   // for every seed, taken out of both), and its sample counts.
   struct Parts {
