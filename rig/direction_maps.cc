@@ -25,74 +25,79 @@ namespace {
 // 9: the grid's coordinates interleaved; 10: dome hits by false position.
 constexpr uint32_t kMapsCacheVersion = 10;
 
+// Device maps are traced in blocks of kMapBlock x kMapBlock pixels grown from seeds one per
+// kMapSeedStep x kMapSeedStep pixels (TraceDeviceMap).
+constexpr int kMapBlock = 16;
+constexpr int kMapSeedStep = 4;
+
+// Traces one pixel of a device map: stratified rays over the pixel area and the aperture; a
+// pixel that is partly lit (at the rim of the mirrors or of the sample) is traced again with
+// 16x the rays, since its throughput scales its signal directly. Writes the pixel's direction
+// and throughput (left 0 where no ray lands) and returns whether any ray landed.
 // chief_direction: a pixel's direction is that of its chief ray where it lands (the projector:
 // the direction it lights the sample center from), else the mean of its landed rays (the
 // camera: what the pixel averages over its aperture).
-DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, int samples_1d,
-                            bool chief_direction, const std::string& stage,
-                            const ProgressCallback& progress) {
-  const ThinLensParams& p = lens.params();
+bool TraceMapPixel(const OpticalSystem& optics, const ThinLens& lens, int samples_1d,
+                   bool chief_direction, int x, int y, DirectionMap* map) {
+  Vec3 sum{0, 0, 0};
+  int landed = 0, samples = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const int side = pass == 0 ? samples_1d : 4 * samples_1d;
+    sum = {0, 0, 0};
+    landed = 0;
+    samples = side * side;
+    for (int s = 0; s < samples; ++s) {
+      // Aperture on a side x side grid; the pixel area on a second grid, paired by a fixed
+      // permutation, both symmetric about the center so that the mean direction is the
+      // center's.
+      const double u0 = (s % side + 0.5) / side;
+      const double u1 = (s / side + 0.5) / side;
+      const int t = (s * 7 + 3) % samples;
+      const double jx = (t % side + 0.5) / side;
+      const double jy = (t / side + 0.5) / side;
+      const auto path =
+          optics.TraceToSample(lens.GenerateRay(x + jx, y + jy, samples > 1 ? u0 : -1, u1));
+      if (path.status != OpticalSystem::PathStatus::kLanded) continue;
+      sum += path.w;
+      ++landed;
+    }
+    if (landed == 0 || landed == samples) break;
+  }
+  if (landed == 0) return false;
+  const int index = y * map->width + x;
+  Vec3 w = Normalize(sum);
+  if (chief_direction) {
+    const auto chief = optics.TraceToSample(lens.ChiefRay(x + 0.5, y + 0.5));
+    if (chief.status == OpticalSystem::PathStatus::kLanded) w = chief.w;
+  }
+  map->direction[3 * index] = static_cast<float>(w.x);
+  map->direction[3 * index + 1] = static_cast<float>(w.y);
+  map->direction[3 * index + 2] = static_cast<float>(w.z);
+  map->throughput[index] = static_cast<float>(landed) / samples;
+  return true;
+}
+
+DirectionMap EmptyMap(const ThinLensParams& p) {
   DirectionMap map;
   map.width = p.width;
   map.height = p.height;
   map.direction.assign(3 * map.size(), 0.0f);
   map.throughput.assign(map.size(), 0.0f);
   map.solid_angle_sr.assign(map.size(), 0.0f);
-  std::atomic<long> rows_done{0};
-  ParallelFor(p.height, 4, [&](int64_t y0, int64_t y1) {
-    for (int64_t y = y0; y < y1; ++y) {
-      for (int x = 0; x < p.width; ++x) {
-        // Stratified rays over the pixel area and the aperture; a pixel that is partly lit
-        // (at the rim of the mirrors or of the sample) is traced again with 16x the rays, since
-        // its throughput scales its signal directly.
-        Vec3 sum{0, 0, 0};
-        int landed = 0, samples = 0;
-        for (int pass = 0; pass < 2; ++pass) {
-          const int side = pass == 0 ? samples_1d : 4 * samples_1d;
-          sum = {0, 0, 0};
-          landed = 0;
-          samples = side * side;
-          for (int s = 0; s < samples; ++s) {
-            // Aperture on a side x side grid; the pixel area on a second grid, paired by a
-            // fixed permutation, both symmetric about the center so that the mean direction is
-            // the center's.
-            const double u0 = (s % side + 0.5) / side;
-            const double u1 = (s / side + 0.5) / side;
-            const int t = (s * 7 + 3) % samples;
-            const double jx = (t % side + 0.5) / side;
-            const double jy = (t / side + 0.5) / side;
-            const auto path = optics.TraceToSample(
-                lens.GenerateRay(x + jx, y + jy, samples > 1 ? u0 : -1, u1));
-            if (path.status != OpticalSystem::PathStatus::kLanded) continue;
-            sum += path.w;
-            ++landed;
-          }
-          if (landed == 0 || landed == samples) break;
-        }
-        const int index = static_cast<int>(y) * p.width + x;
-        if (landed > 0) {
-          Vec3 w = Normalize(sum);
-          if (chief_direction) {
-            const auto chief = optics.TraceToSample(lens.ChiefRay(x + 0.5, y + 0.5));
-            if (chief.status == OpticalSystem::PathStatus::kLanded) w = chief.w;
-          }
-          map.direction[3 * index] = static_cast<float>(w.x);
-          map.direction[3 * index + 1] = static_cast<float>(w.y);
-          map.direction[3 * index + 2] = static_cast<float>(w.z);
-          map.throughput[index] = static_cast<float>(landed) / samples;
-        }
-      }
-      Report(progress, {stage, ++rows_done, p.height, "rows"});
-    }
-  });
-  // Solid angle of each pixel from central differences of its neighbours' directions.
-  for (int y = 0; y < p.height; ++y) {
-    for (int x = 0; x < p.width; ++x) {
-      const int i = y * p.width + x;
+  return map;
+}
+
+// Solid angle of each pixel from central differences of its neighbours' directions.
+void FillSolidAngles(DirectionMap* map_out) {
+  DirectionMap& map = *map_out;
+  const int width = map.width, height = map.height;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const int i = y * width + x;
       if (!map.Valid(i)) continue;
       auto neighbour = [&](int nx, int ny, Vec3* out) {
-        if (nx < 0 || ny < 0 || nx >= p.width || ny >= p.height) return false;
-        const int j = ny * p.width + nx;
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height) return false;
+        const int j = ny * width + nx;
         if (!map.Valid(j)) return false;
         *out = map.Direction(j);
         return true;
@@ -107,8 +112,127 @@ DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, i
       map.solid_angle_sr[i] = static_cast<float>(Length(Cross(dx, dy)));
     }
   }
+}
+
+// Calls trace(x, y), which returns whether the pixel is lit, for the pixels of a width x height
+// image that can be lit, sparing most of the others. Only the pixels that see the sample hold
+// anything in a device map (a fifth of the thesis camera's), so the image is traced in blocks
+// grown from seeds: the pixels of a coarse lattice are traced first, every block holding a lit one
+// is traced whole, and a block whose lit pixels reach its edge makes the blocks across that
+// edge (and corner) traced next, until no block is added. Every lit pixel that is connected
+// (8-neighbours) to a lit lattice pixel through lit pixels is reached, since such a chain leaves
+// a block only through a lit edge pixel; a pixel is traced exactly as one by one, so the image
+// is the same. Only a lit patch narrower than the lattice everywhere and apart from the rest
+// could be missed (tests/rig/direction_maps_test.cc compares with tracing every pixel).
+// trace is called at most once per pixel, from several threads at once for different pixels.
+template <typename Trace>
+void TraceAroundLit(int width, int height, const std::string& stage,
+                    const ProgressCallback& progress, const Trace& trace) {
+  const int blocks_x = (width + kMapBlock - 1) / kMapBlock;
+  const int blocks_y = (height + kMapBlock - 1) / kMapBlock;
+  std::vector<uint8_t> block_state(static_cast<size_t>(blocks_x) * blocks_y, 0);  // 1: queued
+  // Per pixel: 0 not traced, 1 traced and dark, 2 traced and lit.
+  std::vector<uint8_t> state(static_cast<size_t>(width) * height, 0);
+  auto lit_at = [&](int x, int y) {
+    uint8_t& s = state[static_cast<size_t>(y) * width + x];
+    if (s == 0) s = trace(x, y) ? 2 : 1;
+    return s == 2;
+  };
+  std::vector<int> queue;
+  auto enqueue = [&](int bx, int by) {
+    if (bx < 0 || by < 0 || bx >= blocks_x || by >= blocks_y) return;
+    uint8_t& s = block_state[static_cast<size_t>(by) * blocks_x + bx];
+    if (s == 0) {
+      s = 1;
+      queue.push_back(by * blocks_x + bx);
+    }
+  };
+  // Seeds: one pixel in kMapSeedStep x kMapSeedStep, at the center of its cell.
+  const int seeds_x = (width + kMapSeedStep - 1) / kMapSeedStep;
+  const int seeds_y = (height + kMapSeedStep - 1) / kMapSeedStep;
+  auto seed_x = [&](int i) { return std::min(width - 1, i * kMapSeedStep + kMapSeedStep / 2); };
+  auto seed_y = [&](int j) { return std::min(height - 1, j * kMapSeedStep + kMapSeedStep / 2); };
+  std::atomic<long> done{0};
+  const long total_seeds = static_cast<long>(seeds_y);
+  ParallelFor(seeds_y, 4, [&](int64_t j0, int64_t j1) {
+    for (int64_t j = j0; j < j1; ++j) {
+      for (int i = 0; i < seeds_x; ++i) lit_at(seed_x(i), seed_y(static_cast<int>(j)));
+      Report(progress, {stage + " seeds", ++done, total_seeds, "rows"});
+    }
+  });
+  for (int j = 0; j < seeds_y; ++j) {
+    for (int i = 0; i < seeds_x; ++i) {
+      const int x = seed_x(i), y = seed_y(j);
+      if (state[static_cast<size_t>(y) * width + x] == 2) enqueue(x / kMapBlock, y / kMapBlock);
+    }
+  }
+  long known = 0;  // blocks traced or queued: the progress's total, as far as it is known
+  done = 0;
+  while (!queue.empty()) {
+    std::sort(queue.begin(), queue.end());
+    known += static_cast<long>(queue.size());
+    // The neighbours each block of this round asks for (bits: left, right, top, bottom, then
+    // the corners top-left, top-right, bottom-left, bottom-right).
+    std::vector<uint8_t> asks(queue.size(), 0);
+    ParallelFor(static_cast<int64_t>(queue.size()), 1, [&](int64_t q0, int64_t q1) {
+      for (int64_t q = q0; q < q1; ++q) {
+        const int x0 = queue[q] % blocks_x * kMapBlock, y0 = queue[q] / blocks_x * kMapBlock;
+        const int x1 = std::min(width, x0 + kMapBlock), y1 = std::min(height, y0 + kMapBlock);
+        uint8_t ask = 0;
+        for (int y = y0; y < y1; ++y) {
+          for (int x = x0; x < x1; ++x) {
+            if (!lit_at(x, y)) continue;
+            const bool left = x == x0, right = x == x1 - 1, top = y == y0, bottom = y == y1 - 1;
+            ask |= (left ? 1 : 0) | (right ? 2 : 0) | (top ? 4 : 0) | (bottom ? 8 : 0) |
+                   (left && top ? 16 : 0) | (right && top ? 32 : 0) | (left && bottom ? 64 : 0) |
+                   (right && bottom ? 128 : 0);
+          }
+        }
+        asks[q] = ask;
+        Report(progress, {stage, ++done, known, "blocks"});
+      }
+    });
+    std::vector<int> round;
+    round.swap(queue);
+    static constexpr int kDx[8] = {-1, 1, 0, 0, -1, 1, -1, 1};
+    static constexpr int kDy[8] = {0, 0, -1, 1, -1, -1, 1, 1};
+    for (size_t q = 0; q < round.size(); ++q) {
+      for (int k = 0; k < 8; ++k) {
+        if (asks[q] & (1 << k)) enqueue(round[q] % blocks_x + kDx[k], round[q] / blocks_x + kDy[k]);
+      }
+    }
+  }
+  Report(progress, {stage, known, known, "blocks"});
+}
+
+}  // namespace
+
+DirectionMap TraceDeviceMapEveryPixel(const OpticalSystem& optics, const ThinLens& lens,
+                                      int samples_1d, bool chief_direction) {
+  DirectionMap map = EmptyMap(lens.params());
+  ParallelFor(map.height, 4, [&](int64_t y0, int64_t y1) {
+    for (int64_t y = y0; y < y1; ++y) {
+      for (int x = 0; x < map.width; ++x) {
+        TraceMapPixel(optics, lens, samples_1d, chief_direction, x, static_cast<int>(y), &map);
+      }
+    }
+  });
+  FillSolidAngles(&map);
   return map;
 }
+
+DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, int samples_1d,
+                            bool chief_direction, const std::string& stage,
+                            const ProgressCallback& progress) {
+  DirectionMap map = EmptyMap(lens.params());
+  TraceAroundLit(map.width, map.height, stage, progress, [&](int x, int y) {
+    return TraceMapPixel(optics, lens, samples_1d, chief_direction, x, y, &map);
+  });
+  FillSolidAngles(&map);
+  return map;
+}
+
+namespace {
 
 // The grid's step and node counts for a requested step in degrees: an exact period in phi.
 ProjectorDirectionGrid GridLayout(double step_deg) {
@@ -200,7 +324,8 @@ std::vector<float> FootprintMoments(const OpticalSystem& optics, const Direction
         double b[kFootprintMoments];
         FootprintBasis(w, b);
         const double weight = dcos * dphi * z;
-        for (int k = 0; k < kFootprintMoments; ++k) local[j * kFootprintMoments + k] += weight * b[k];
+        for (int k = 0; k < kFootprintMoments; ++k)
+          local[j * kFootprintMoments + k] += weight * b[k];
       }
       Report(progress, {"moments", ++done, rows, "rows"});
     }
@@ -259,8 +384,7 @@ RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progre
   const int samples_1d =
       std::max(1, static_cast<int>(std::lround(std::sqrt(rig.simulation.aperture_samples))));
   RigMaps maps;
-  maps.camera =
-      TraceDeviceMap(optics, optics.camera(), samples_1d, false, "camera map", progress);
+  maps.camera = TraceDeviceMap(optics, optics.camera(), samples_1d, false, "camera map", progress);
   maps.projector =
       TraceDeviceMap(optics, optics.projector(), samples_1d, true, "projector map", progress);
   maps.grid = TraceGrid(optics, rig.simulation.direction_grid_deg, progress);
@@ -270,14 +394,21 @@ RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progre
 
 std::string DefaultCacheDir() {
   if (const char* dir = std::getenv("ZBRDF_CACHE_DIR"); dir && *dir) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/zbrdf";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/zbrdf";
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return std::string(xdg) + "/zbrdf";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return std::string(home) + "/.cache/zbrdf";
   return "/tmp/zbrdf-cache";
 }
 
 RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache_dir,
                            const ProgressCallback& progress) {
-  const uint64_t hash = RigHash(optics.rig());
+  // Keyed by every field of the rig that the maps depend on: all but the transport's samples
+  // per pixel, so that a simulation with another sample count (zbrdf simulate
+  // --samples-per-pixel) reads the same maps.
+  Rig key_rig = optics.rig();
+  key_rig.simulation.samples_per_pixel = 0;
+  const uint64_t hash = RigHash(key_rig);
   char name[64];
   std::snprintf(name, sizeof(name), "maps-%016llx-v%u.bin", static_cast<unsigned long long>(hash),
                 kMapsCacheVersion);
@@ -349,7 +480,8 @@ void NeighbourDirections(const std::vector<float>& direction,
   };
   bool have[3][3];
   for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) have[dy + 1][dx + 1] = at(x + dx, y + dy, &out[dy + 1][dx + 1]);
+    for (int dx = -1; dx <= 1; ++dx)
+      have[dy + 1][dx + 1] = at(x + dx, y + dy, &out[dy + 1][dx + 1]);
   }
   const Vec3 c = out[1][1];
   // Edge neighbours first (from the opposite edge neighbour), then corners (from the two
@@ -381,11 +513,16 @@ int BayerChannel(PixelLayout layout, int x, int y) {
     return c == 'R' ? 0 : (c == 'G' ? 1 : 2);
   };
   switch (layout) {
-    case PixelLayout::kBayerRGGB: return pick("RGGB");
-    case PixelLayout::kBayerGRBG: return pick("GRBG");
-    case PixelLayout::kBayerGBRG: return pick("GBRG");
-    case PixelLayout::kBayerBGGR: return pick("BGGR");
-    default: return -1;
+    case PixelLayout::kBayerRGGB:
+      return pick("RGGB");
+    case PixelLayout::kBayerGRBG:
+      return pick("GRBG");
+    case PixelLayout::kBayerGBRG:
+      return pick("GBRG");
+    case PixelLayout::kBayerBGGR:
+      return pick("BGGR");
+    default:
+      return -1;
   }
 }
 

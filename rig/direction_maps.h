@@ -4,9 +4,9 @@
 // across its area and lens aperture that land on the sample), the solid angle its footprint
 // covers in direction space, and its throughput (the fraction of those rays that land).
 // Projector map: the same for projector pixels, except that the direction is the chief ray's:
-// the direction the pixel lights the sample center from. Direction grid: the inverse of the projector map,
-// found by tracing from the sample center outward, for "which projector pixel lights the
-// sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
+// the direction the pixel lights the sample center from. Direction grid: the inverse of the
+// projector map, found by tracing from the sample center outward, for "which projector pixel lights
+// the sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
 //
 // These are the nominal maps of a rig description; calibration (calibration/) estimates the
 // maps of a real, misaligned rig with the same types.
@@ -78,6 +78,18 @@ inline bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, doubl
   *py_out = (1 - a) * ((1 - b) * n00[1] + b * n01[1]) + a * ((1 - b) * n10[1] + b * n11[1]);
   return true;
 }
+
+// The map of a camera or projector (`lens`, one of optics' two), traced with samples_1d^2
+// rays per pixel over its area and aperture (16x at the rim); see the top of this file.
+// chief_direction: a pixel's direction is its chief ray's (the projector's) instead of the
+// mean of its landed rays (the camera's). Traces only the blocks of pixels around those that
+// see the sample, grown from a coarse lattice of seed pixels; `progress` gets `stage` and blocks.
+DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, int samples_1d,
+                            bool chief_direction, const std::string& stage,
+                            const ProgressCallback& progress);
+// The same map with every pixel traced: the reference TraceDeviceMap must equal exactly.
+DirectionMap TraceDeviceMapEveryPixel(const OpticalSystem& optics, const ThinLens& lens,
+                                      int samples_1d, bool chief_direction);
 
 // Number of moments per projector pixel (see RigMaps::projector_moments).
 inline constexpr int kFootprintMoments = 5;

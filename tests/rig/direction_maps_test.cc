@@ -113,6 +113,51 @@ TEST(DirectionMapsTest, CacheRoundTripsAndRejectsDamage) {
   std::filesystem::remove_all(dir);
 }
 
+// The maps are traced only in blocks grown from lit seed pixels (TraceDeviceMap); tracing every
+// pixel (a second method, the plain loop) must give the same maps bit for bit: the thesis rig at
+// the fast preset, the same rig misaligned (its lit patches moved off the middle and made
+// lopsided), and the full-resolution camera, whose lit disk is 4x as many pixels across.
+void ExpectSameMap(const DirectionMap& grown, const DirectionMap& every, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_EQ(grown.width, every.width);
+  ASSERT_EQ(grown.height, every.height);
+  int lit = 0;
+  for (int i = 0; i < every.size(); ++i) lit += every.Valid(i);
+  EXPECT_GT(lit, every.size() / 20);  // a map with something to find
+  EXPECT_EQ(grown.direction, every.direction);
+  EXPECT_EQ(grown.throughput, every.throughput);
+  EXPECT_EQ(grown.solid_angle_sr, every.solid_angle_sr);
+}
+
+TEST(DirectionMapsTest, MapsTracedAroundTheLitPixelsAreThoseOfEveryPixel) {
+  const auto& shared = testing::SharedFastThesisRig();
+  const int side = static_cast<int>(std::lround(std::sqrt(shared.rig.simulation.aperture_samples)));
+  ExpectSameMap(shared.maps.camera,
+                TraceDeviceMapEveryPixel(shared.optics, shared.optics.camera(), side, false),
+                "fast camera");
+  ExpectSameMap(shared.maps.projector,
+                TraceDeviceMapEveryPixel(shared.optics, shared.optics.projector(), side, true),
+                "fast projector");
+
+  Rig misaligned = shared.rig;
+  misaligned.misalignment.camera_offset_mm = {0.3, -0.2, 0};
+  misaligned.misalignment.camera_tilt_deg[0] = 0.5;
+  misaligned.misalignment.camera_tilt_deg[1] = -0.3;
+  misaligned.misalignment.projector_tilt_deg[0] = -0.4;
+  misaligned.misalignment.parabola_offset_mm = {0.2, 0.1, 0};
+  const OpticalSystem tilted(misaligned);
+  ExpectSameMap(TraceDeviceMap(tilted, tilted.camera(), side, false, "camera map", nullptr),
+                TraceDeviceMapEveryPixel(tilted, tilted.camera(), side, false),
+                "misaligned camera");
+  ExpectSameMap(TraceDeviceMap(tilted, tilted.projector(), side, true, "projector map", nullptr),
+                TraceDeviceMapEveryPixel(tilted, tilted.projector(), side, true),
+                "misaligned projector");
+
+  const OpticalSystem full(LoadRig(testing::SourceRig("thesis.yaml")));
+  ExpectSameMap(TraceDeviceMap(full, full.camera(), side, false, "camera map", nullptr),
+                TraceDeviceMapEveryPixel(full, full.camera(), side, false), "full camera");
+}
+
 TEST(DirectionMapsTest, BayerChannels) {
   EXPECT_EQ(BayerChannel(PixelLayout::kBayerRGGB, 0, 0), 0);
   EXPECT_EQ(BayerChannel(PixelLayout::kBayerRGGB, 1, 0), 1);

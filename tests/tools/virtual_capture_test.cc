@@ -320,6 +320,53 @@ TEST(VirtualCapture, BadOptionsAndDamagedPlansAreNamedBeforeAnythingIsWritten) {
   EXPECT_NE(ReadFile(tmp.File("err.txt")).find("holds no direction pairs"), std::string::npos);
 }
 
+// --samples-per-pixel sets the light transport's sample count (the report says which), the
+// direction maps, which do not depend on it, are shared between sample counts in the cache, and
+// an absurd count is refused before anything is written.
+TEST(VirtualCapture, SamplesPerPixelSetsTheTransportAndSharesTheMaps) {
+  TempDir tmp("virtual-capture-samples");
+  const std::string cache = tmp.File("cache");
+  const char* previous = std::getenv("ZBRDF_CACHE_DIR");
+  const std::string saved = previous != nullptr ? previous : "";
+  ::setenv("ZBRDF_CACHE_DIR", cache.c_str(), 1);
+  auto count = [&](const std::string& folder, const std::string& prefix) {
+    int n = 0;
+    if (!fs::exists(folder)) return 0;
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      n += entry.path().filename().string().rfind(prefix, 0) == 0;
+    }
+    return n;
+  };
+  const std::string simulate =
+      "simulate --rig " + testing::ThesisRigPath() +
+      " --preset fast --material ggx:alpha=0.3 --order 1 --exposures 1 --shortest-exposure-us "
+      "40000 --no-hdr-images --truth-samples 256 --json";
+  for (const int samples : {32, 64}) {
+    const std::string out = tmp.File("s" + std::to_string(samples));
+    ASSERT_EQ(
+        RunZbrdf(simulate + " --samples-per-pixel " + std::to_string(samples) + " --out " + out,
+                 tmp.File("report.json"), tmp.File("err.txt")),
+        0)
+        << ReadFile(tmp.File("err.txt"));
+    const auto report = nlohmann::json::parse(ReadFile(tmp.File("report.json")));
+    EXPECT_EQ(report.value("samples_per_pixel", 0), samples);
+    EXPECT_EQ(count(cache, "maps-"), 1);
+    EXPECT_EQ(count(cache + "/transport", "transport-"), samples == 32 ? 1 : 2);
+  }
+  const std::string refused = tmp.File("refused");
+  EXPECT_EQ(RunZbrdf(simulate + " --samples-per-pixel 0 --out " + refused, "/dev/null",
+                     tmp.File("err.txt")),
+            2);
+  EXPECT_NE(ReadFile(tmp.File("err.txt")).find("--samples-per-pixel"), std::string::npos)
+      << ReadFile(tmp.File("err.txt"));
+  EXPECT_FALSE(fs::exists(refused));
+  if (previous != nullptr) {
+    ::setenv("ZBRDF_CACHE_DIR", saved.c_str(), 1);
+  } else {
+    ::unsetenv("ZBRDF_CACHE_DIR");
+  }
+}
+
 // The frame's samples with one changed, in a TIFF carrying the original's ImageDescription (and
 // so its checksum): damage that decodes cleanly.
 std::string DamageKeepingTheDescription(const std::string& bytes, int width, int height) {
