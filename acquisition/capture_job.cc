@@ -178,7 +178,8 @@ CaptureJobResult RunCaptureJobUnguarded(const Rig& rig, const RigCalibration& ca
     result.plan = SessionPlan(*opened);
     if (opened->session().value("rig_hash", std::string()) != std::to_string(RigHash(rig))) {
       throw InputError("session " + options.out_dir + " was captured with another rig "
-                       "description; resume it with the same --rig and --preset");
+                       "description; resume it with the same --rig and --preset (and, for "
+                       "zbrdf simulate, --samples-per-pixel)");
     }
     result.repairs = opened->repairs();
   } else {

@@ -321,8 +321,9 @@ TEST(VirtualCapture, BadOptionsAndDamagedPlansAreNamedBeforeAnythingIsWritten) {
 }
 
 // --samples-per-pixel sets the light transport's sample count (the report says which), the
-// direction maps, which do not depend on it, are shared between sample counts in the cache, and
-// an absurd count is refused before anything is written.
+// direction maps, which do not depend on it, are shared between sample counts in the cache, a
+// session is resumed only at its own count, and an absurd count is refused before anything is
+// written.
 TEST(VirtualCapture, SamplesPerPixelSetsTheTransportAndSharesTheMaps) {
   TempDir tmp("virtual-capture-samples");
   const std::string cache = tmp.File("cache");
@@ -353,6 +354,12 @@ TEST(VirtualCapture, SamplesPerPixelSetsTheTransportAndSharesTheMaps) {
     EXPECT_EQ(count(cache, "maps-"), 1);
     EXPECT_EQ(count(cache + "/transport", "transport-"), samples == 32 ? 1 : 2);
   }
+  // A session resumed at another count is refused, naming the flag.
+  EXPECT_EQ(RunZbrdf(simulate + " --samples-per-pixel 64 --resume --out " + tmp.File("s32"),
+                     "/dev/null", tmp.File("err.txt")),
+            2);
+  EXPECT_NE(ReadFile(tmp.File("err.txt")).find("--samples-per-pixel"), std::string::npos)
+      << ReadFile(tmp.File("err.txt"));
   const std::string refused = tmp.File("refused");
   EXPECT_EQ(RunZbrdf(simulate + " --samples-per-pixel 0 --out " + refused, "/dev/null",
                      tmp.File("err.txt")),
