@@ -116,7 +116,8 @@ TEST(DirectionMapsTest, CacheRoundTripsAndRejectsDamage) {
 // The maps are traced only in blocks grown from lit seed pixels (TraceDeviceMap); tracing every
 // pixel (a second method, the plain loop) must give the same maps bit for bit: the thesis rig at
 // the fast preset, the same rig misaligned (its lit patches moved off the middle and made
-// lopsided), and the full-resolution camera, whose lit disk is 4x as many pixels across.
+// lopsided), the full-dome rig, and the full-resolution camera, whose lit disk is 4x as many
+// pixels across.
 void ExpectSameMap(const DirectionMap& grown, const DirectionMap& every, const std::string& what) {
   SCOPED_TRACE(what);
   ASSERT_EQ(grown.width, every.width);
@@ -152,6 +153,15 @@ TEST(DirectionMapsTest, MapsTracedAroundTheLitPixelsAreThoseOfEveryPixel) {
   ExpectSameMap(TraceDeviceMap(tilted, tilted.projector(), side, true, "projector map", nullptr),
                 TraceDeviceMapEveryPixel(tilted, tilted.projector(), side, true),
                 "misaligned projector");
+
+  // The other bundled rig, whose dome reaches to the horizon.
+  const OpticalSystem dome(
+      ApplyPreset(LoadRig(testing::SourceRig("full-dome.yaml")), Preset::kFast));
+  ExpectSameMap(TraceDeviceMap(dome, dome.camera(), side, false, "camera map", nullptr),
+                TraceDeviceMapEveryPixel(dome, dome.camera(), side, false), "full-dome camera");
+  ExpectSameMap(TraceDeviceMap(dome, dome.projector(), side, true, "projector map", nullptr),
+                TraceDeviceMapEveryPixel(dome, dome.projector(), side, true),
+                "full-dome projector");
 
   const OpticalSystem full(LoadRig(testing::SourceRig("thesis.yaml")));
   ExpectSameMap(TraceDeviceMap(full, full.camera(), side, false, "camera map", nullptr),
