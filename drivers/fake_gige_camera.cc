@@ -144,9 +144,11 @@ void FakeGigECamera::SetFrameSource(FakeFrameSource source) {
   }
 }
 
-void FakeGigECamera::SetLostPacketRatio(double ratio) {
+void FakeGigECamera::SetLostPacketRatio(double ratio, uint32_t seed) {
   if (!(ratio >= 0 && ratio <= 1)) throw InputError("lost packet ratio must be in [0, 1]");
   if (state_->gv == nullptr) throw DeviceError("the fake camera was stopped");
+  // The fake draws its drops from GLib's global generator (g_random_double per packet).
+  g_random_set_seed(seed);
   g_object_set(state_->gv, "gvsp-lost-ratio", ratio, nullptr);
 }
 

@@ -67,8 +67,11 @@ class FakeGigECamera {
   // nullptr restores Aravis's built-in pattern (a diagonal ramp for Mono8/Mono16 whose scale
   // follows exposure and gain; see arvfakecamera.c).
   void SetFrameSource(FakeFrameSource source);
-  // Probability that each GVSP packet (leader, data, trailer) is dropped, 0..1.
-  void SetLostPacketRatio(double ratio);
+  // Probability that each GVSP packet (leader, data, trailer) is dropped, 0..1. The fake never
+  // resends a dropped packet. The drops come from GLib's global random generator, seeded with
+  // `seed` here: the same packets are dropped on every run, as far as the frames' timing (a
+  // frame triggered again after a late one) leaves the sequence of packets the same.
+  void SetLostPacketRatio(double ratio, uint32_t seed = 1);
   // Stops answering GVCP and sending GVSP, as a camera that lost power. Idempotent.
   void Stop();
 
