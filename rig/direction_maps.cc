@@ -324,8 +324,7 @@ std::vector<float> FootprintMoments(const OpticalSystem& optics, const Direction
         double b[kFootprintMoments];
         FootprintBasis(w, b);
         const double weight = dcos * dphi * z;
-        for (int k = 0; k < kFootprintMoments; ++k)
-          local[j * kFootprintMoments + k] += weight * b[k];
+        for (int k = 0; k < kFootprintMoments; ++k) local[j * kFootprintMoments + k] += weight * b[k];
       }
       Report(progress, {"moments", ++done, rows, "rows"});
     }
@@ -384,7 +383,8 @@ RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progre
   const int samples_1d =
       std::max(1, static_cast<int>(std::lround(std::sqrt(rig.simulation.aperture_samples))));
   RigMaps maps;
-  maps.camera = TraceDeviceMap(optics, optics.camera(), samples_1d, false, "camera map", progress);
+  maps.camera =
+      TraceDeviceMap(optics, optics.camera(), samples_1d, false, "camera map", progress);
   maps.projector =
       TraceDeviceMap(optics, optics.projector(), samples_1d, true, "projector map", progress);
   maps.grid = TraceGrid(optics, rig.simulation.direction_grid_deg, progress);
@@ -394,10 +394,8 @@ RigMaps BuildRigMaps(const OpticalSystem& optics, const ProgressCallback& progre
 
 std::string DefaultCacheDir() {
   if (const char* dir = std::getenv("ZBRDF_CACHE_DIR"); dir && *dir) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
-    return std::string(xdg) + "/zbrdf";
-  if (const char* home = std::getenv("HOME"); home && *home)
-    return std::string(home) + "/.cache/zbrdf";
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/zbrdf";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/zbrdf";
   return "/tmp/zbrdf-cache";
 }
 
@@ -480,8 +478,7 @@ void NeighbourDirections(const std::vector<float>& direction,
   };
   bool have[3][3];
   for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx)
-      have[dy + 1][dx + 1] = at(x + dx, y + dy, &out[dy + 1][dx + 1]);
+    for (int dx = -1; dx <= 1; ++dx) have[dy + 1][dx + 1] = at(x + dx, y + dy, &out[dy + 1][dx + 1]);
   }
   const Vec3 c = out[1][1];
   // Edge neighbours first (from the opposite edge neighbour), then corners (from the two
@@ -513,16 +510,11 @@ int BayerChannel(PixelLayout layout, int x, int y) {
     return c == 'R' ? 0 : (c == 'G' ? 1 : 2);
   };
   switch (layout) {
-    case PixelLayout::kBayerRGGB:
-      return pick("RGGB");
-    case PixelLayout::kBayerGRBG:
-      return pick("GRBG");
-    case PixelLayout::kBayerGBRG:
-      return pick("GBRG");
-    case PixelLayout::kBayerBGGR:
-      return pick("BGGR");
-    default:
-      return -1;
+    case PixelLayout::kBayerRGGB: return pick("RGGB");
+    case PixelLayout::kBayerGRBG: return pick("GRBG");
+    case PixelLayout::kBayerGBRG: return pick("GBRG");
+    case PixelLayout::kBayerBGGR: return pick("BGGR");
+    default: return -1;
   }
 }
 

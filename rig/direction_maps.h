@@ -4,9 +4,9 @@
 // across its area and lens aperture that land on the sample), the solid angle its footprint
 // covers in direction space, and its throughput (the fraction of those rays that land).
 // Projector map: the same for projector pixels, except that the direction is the chief ray's:
-// the direction the pixel lights the sample center from. Direction grid: the inverse of the
-// projector map, found by tracing from the sample center outward, for "which projector pixel lights
-// the sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
+// the direction the pixel lights the sample center from. Direction grid: the inverse of the projector map,
+// found by tracing from the sample center outward, for "which projector pixel lights the
+// sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
 //
 // These are the nominal maps of a rig description; calibration (calibration/) estimates the
 // maps of a real, misaligned rig with the same types.

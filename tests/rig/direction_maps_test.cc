@@ -146,22 +146,17 @@ TEST(DirectionMapsTest, MapsTracedAroundTheLitPixelsAreThoseOfEveryPixel) {
   misaligned.misalignment.camera_tilt_deg[1] = -0.3;
   misaligned.misalignment.projector_tilt_deg[0] = -0.4;
   misaligned.misalignment.parabola_offset_mm = {0.2, 0.1, 0};
-  const OpticalSystem tilted(misaligned);
-  ExpectSameMap(TraceDeviceMap(tilted, tilted.camera(), side, false, "camera map", nullptr),
-                TraceDeviceMapEveryPixel(tilted, tilted.camera(), side, false),
-                "misaligned camera");
-  ExpectSameMap(TraceDeviceMap(tilted, tilted.projector(), side, true, "projector map", nullptr),
-                TraceDeviceMapEveryPixel(tilted, tilted.projector(), side, true),
-                "misaligned projector");
-
-  // The other bundled rig, whose dome reaches to the horizon.
-  const OpticalSystem dome(
-      ApplyPreset(LoadRig(testing::SourceRig("full-dome.yaml")), Preset::kFast));
-  ExpectSameMap(TraceDeviceMap(dome, dome.camera(), side, false, "camera map", nullptr),
-                TraceDeviceMapEveryPixel(dome, dome.camera(), side, false), "full-dome camera");
-  ExpectSameMap(TraceDeviceMap(dome, dome.projector(), side, true, "projector map", nullptr),
-                TraceDeviceMapEveryPixel(dome, dome.projector(), side, true),
-                "full-dome projector");
+  // The other bundled rig's dome reaches to the horizon.
+  const Rig dome = ApplyPreset(LoadRig(testing::SourceRig("full-dome.yaml")), Preset::kFast);
+  for (const auto& [rig, name] : {std::pair{misaligned, "misaligned"}, {dome, "full-dome"}}) {
+    const OpticalSystem optics(rig);
+    for (const bool projector : {false, true}) {
+      const ThinLens& lens = projector ? optics.projector() : optics.camera();
+      ExpectSameMap(TraceDeviceMap(optics, lens, side, projector, "map", nullptr),
+                    TraceDeviceMapEveryPixel(optics, lens, side, projector),
+                    std::string(name) + (projector ? " projector" : " camera"));
+    }
+  }
 
   const OpticalSystem full(LoadRig(testing::SourceRig("thesis.yaml")));
   ExpectSameMap(TraceDeviceMap(full, full.camera(), side, false, "camera map", nullptr),
