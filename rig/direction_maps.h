@@ -55,7 +55,30 @@ struct ProjectorDirectionGrid {
   // SphericalPhi of w), for callers that already have them.
   // Inline: the transport build calls it for every sample.
   bool LookupAngles(double theta_rad, double phi_rad, double* px_out, double* py_out) const;
+  // Asks the CPU to start fetching the nodes LookupAngles(theta_rad, phi_rad) reads (its two
+  // cache lines), for a caller that will look the direction up a little later; changes nothing
+  // else. The transport build looks up random directions in a grid far larger than a core's
+  // cache: a lookup waits for memory unless its nodes were asked for ahead (docs/simulator.md).
+  inline void PrefetchAngles(double theta_rad, double phi_rad) const;
 };
+
+inline void ProjectorDirectionGrid::PrefetchAngles(double theta, double phi) const {
+  if (n_theta == 0) return;
+  const int i = static_cast<int>(theta / step_rad), j = static_cast<int>(phi / step_rad);
+  if (i < 0 || j < 0 || i + 1 >= n_theta || j > n_phi) return;
+  const int j0 = j >= n_phi ? j - n_phi : j;
+  const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
+  const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  // An instruction the compiler must emit: GCC 12 at -O3 deleted __builtin_prefetch and
+  // _mm_prefetch here (objdump showed no prefetch left in the transport build).
+  asm volatile("prefetcht0 %0" : : "m"(*n00));
+  asm volatile("prefetcht0 %0" : : "m"(*n10));
+#else
+  __builtin_prefetch(n00);
+  __builtin_prefetch(n10);
+#endif
+}
 
 inline bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_out,
                                                  double* py_out) const {
