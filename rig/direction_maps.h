@@ -56,18 +56,41 @@ struct ProjectorDirectionGrid {
   // Inline: the transport build calls it for every sample.
   bool LookupAngles(double theta_rad, double phi_rad, double* px_out, double* py_out) const;
   // Asks the CPU to start fetching the nodes LookupAngles(theta_rad, phi_rad) reads (its two
-  // cache lines), for a caller that will look the direction up a little later; changes nothing
-  // else. The transport build looks up random directions in a grid far larger than a core's
-  // cache: a lookup waits for memory unless its nodes were asked for ahead (docs/simulator.md).
-  inline void PrefetchAngles(double theta_rad, double phi_rad) const;
+  // rows' cache lines), for a caller that will look the direction up a little later; changes
+  // nothing else. The same angles as LookupAngles. The transport build looks up random
+  // directions in a grid far larger than a core's cache: a lookup waits for memory unless its
+  // nodes were asked for ahead (docs/simulator.md).
+  void PrefetchAngles(double theta_rad, double phi_rad) const;
+
+  // The cell LookupAngles interpolates in: its lower node (row i, column j0) and the next
+  // column's node in that row (wrapped) as node indices, and the fractions across it in theta
+  // (a) and phi (b); the row above is n_phi nodes further. False beyond the last row.
+  struct Cell {
+    size_t n00, n01;
+    double a, b;
+  };
+  bool CellAt(double theta_rad, double phi_rad, Cell* cell) const;
 };
 
+inline bool ProjectorDirectionGrid::CellAt(double theta, double phi, Cell* cell) const {
+  if (n_theta == 0) return false;
+  const double fi = theta / step_rad, fj = phi / step_rad;
+  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
+  if (i + 1 >= n_theta) return false;
+  cell->a = fi - i;
+  cell->b = fj - j;
+  // phi is in [0, 2 pi] (the zone sampler's azimuth may reach 2 pi): j is at most n_phi, so
+  // the wrap needs no division.
+  const int j0 = j >= n_phi ? j - n_phi : j, j1 = j0 + 1 == n_phi ? 0 : j0 + 1;
+  cell->n00 = static_cast<size_t>(i) * n_phi + j0;
+  cell->n01 = static_cast<size_t>(i) * n_phi + j1;
+  return true;
+}
+
 inline void ProjectorDirectionGrid::PrefetchAngles(double theta, double phi) const {
-  if (n_theta == 0) return;
-  const int i = static_cast<int>(theta / step_rad), j = static_cast<int>(phi / step_rad);
-  if (i < 0 || j < 0 || i + 1 >= n_theta || j > n_phi) return;
-  const int j0 = j >= n_phi ? j - n_phi : j;
-  const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
+  Cell cell;
+  if (!CellAt(theta, phi, &cell)) return;
+  const float* n00 = &xy[2 * cell.n00];
   const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   // An instruction the compiler must emit: GCC 12 at -O3 deleted __builtin_prefetch and
@@ -82,16 +105,11 @@ inline void ProjectorDirectionGrid::PrefetchAngles(double theta, double phi) con
 
 inline bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, double* px_out,
                                                  double* py_out) const {
-  if (n_theta == 0) return false;
-  const double fi = theta / step_rad, fj = phi / step_rad;
-  const int i = static_cast<int>(fi), j = static_cast<int>(fj);
-  if (i + 1 >= n_theta) return false;
-  const double a = fi - i, b = fj - j;
-  // phi is in [0, 2 pi] (the zone sampler's azimuth may reach 2 pi): j is at most n_phi, so
-  // the wrap needs no division.
-  const int j0 = j >= n_phi ? j - n_phi : j, j1 = j0 + 1 == n_phi ? 0 : j0 + 1;
-  const float* n00 = &xy[2 * (static_cast<size_t>(i) * n_phi + j0)];
-  const float* n01 = &xy[2 * (static_cast<size_t>(i) * n_phi + j1)];
+  Cell cell;
+  if (!CellAt(theta, phi, &cell)) return false;
+  const double a = cell.a, b = cell.b;
+  const float* n00 = &xy[2 * cell.n00];
+  const float* n01 = &xy[2 * cell.n01];
   const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
   const float* n11 = n01 + 2 * static_cast<size_t>(n_phi);
   if (std::isnan(n00[0]) || std::isnan(n01[0]) || std::isnan(n10[0]) || std::isnan(n11[0])) {
