@@ -1,15 +1,15 @@
 #include "acquisition/frame_file.h"
 
+#include <tiffio.h>
+
 #include <cstdio>
 #include <sstream>
 #include <string_view>
-
-#include <opencv2/imgcodecs.hpp>
-#include <tiffio.h>
 #include <tiffio.hxx>
 
 #include "basis/error.h"
 #include "basis/hash.h"
+#include "basis/png.h"
 
 namespace zbrdf {
 
@@ -75,27 +75,39 @@ std::string EncodeFrameFile(const Frame& frame) {
 
 namespace {
 
-// Whether a TIFF's first directory describes the expected frame: width x height, one 16-bit
-// sample per pixel, in strips. Checked with libtiff before any pixel buffer is allocated: a few
-// damaged header bytes can otherwise declare gigabytes (found by fuzz/frame_file_fuzz). Its
-// ImageDescription goes to *description ("" if it has none).
-bool TiffDescribesFrame(const std::string& bytes, int width, int height, std::string* description) {
+// A TIFF frame's samples, read with libtiff: true, the width x height samples in *samples and its
+// ImageDescription in *description ("" if it has none), when its first directory describes the
+// expected frame (width x height, one 16-bit sample per pixel, in strips) and every row decodes.
+// The header is checked before any pixel buffer is allocated: a few damaged header bytes can
+// otherwise declare gigabytes (found by fuzz/frame_file_fuzz).
+bool ReadTiffFrame(const std::string& bytes, int width, int height, std::string* description,
+                   std::vector<uint16_t>* samples) {
   std::istringstream in(bytes);
   TIFF* tiff = TIFFStreamOpen("frame", static_cast<std::istream*>(&in));
   if (tiff == nullptr) return false;
   uint32_t w = 0, h = 0;
-  uint16_t bits = 0, samples = 0;
+  uint16_t bits = 0, per_pixel = 0, planar = 0;
   char* text = nullptr;
   description->clear();
   if (TIFFGetField(tiff, TIFFTAG_IMAGEDESCRIPTION, &text) == 1 && text != nullptr) {
     *description = text;
   }
-  const bool ok = TIFFGetField(tiff, TIFFTAG_IMAGEWIDTH, &w) == 1 &&
-                  TIFFGetField(tiff, TIFFTAG_IMAGELENGTH, &h) == 1 &&
-                  TIFFGetFieldDefaulted(tiff, TIFFTAG_BITSPERSAMPLE, &bits) == 1 &&
-                  TIFFGetFieldDefaulted(tiff, TIFFTAG_SAMPLESPERPIXEL, &samples) == 1 &&
-                  w == static_cast<uint32_t>(width) && h == static_cast<uint32_t>(height) &&
-                  bits == 16 && samples == 1 && !TIFFIsTiled(tiff);
+  bool ok = TIFFGetField(tiff, TIFFTAG_IMAGEWIDTH, &w) == 1 &&
+            TIFFGetField(tiff, TIFFTAG_IMAGELENGTH, &h) == 1 &&
+            TIFFGetFieldDefaulted(tiff, TIFFTAG_BITSPERSAMPLE, &bits) == 1 &&
+            TIFFGetFieldDefaulted(tiff, TIFFTAG_SAMPLESPERPIXEL, &per_pixel) == 1 &&
+            TIFFGetFieldDefaulted(tiff, TIFFTAG_PLANARCONFIG, &planar) == 1 &&
+            w == static_cast<uint32_t>(width) && h == static_cast<uint32_t>(height) && bits == 16 &&
+            per_pixel == 1 && planar == PLANARCONFIG_CONTIG && !TIFFIsTiled(tiff) &&
+            TIFFScanlineSize64(tiff) == static_cast<uint64_t>(width) * sizeof(uint16_t);
+  if (ok) {
+    // Row by row (libtiff decompresses each strip once, and swaps big-endian files' bytes).
+    samples->assign(static_cast<size_t>(width) * height, 0);
+    for (int y = 0; ok && y < height; ++y) {
+      ok = TIFFReadScanline(tiff, samples->data() + static_cast<size_t>(y) * width,
+                            static_cast<uint32_t>(y)) == 1;
+    }
+  }
   TIFFClose(tiff);
   return ok;
 }
@@ -110,6 +122,22 @@ bool PngDescribesFrame(const std::string& bytes, int width, int height) {
   };
   return be32(16) == static_cast<uint32_t>(width) && be32(20) == static_cast<uint32_t>(height) &&
          static_cast<unsigned char>(bytes[24]) == 16 && bytes[25] == 0;
+}
+
+// The same for a PNG (frames of earlier versions): 16-bit gray, width x height, undamaged.
+bool ReadPngFrame(const std::string& bytes, int width, int height, std::vector<uint16_t>* samples) {
+  if (!PngDescribesFrame(bytes, width, height)) return false;
+  try {
+    PngImage image = DecodePng(bytes, "frame");
+    if (image.width != width || image.height != height || image.channels != 1 ||
+        image.bit_depth != 16) {
+      return false;
+    }
+    *samples = std::move(image.samples);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
 }
 
 // The checksum a frame file's ImageDescription records: true and *checksum for a frame written
@@ -145,36 +173,21 @@ bool ParseDescription(const std::string& description, bool* has_checksum, uint64
 
 std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int height,
                                       const std::string& what) {
-  cv::Mat image;
-  // Only the formats frames are written in (TIFF, and PNG from earlier versions) reach the
-  // decoder: cv::imdecode would otherwise try every codec it has, and some (GDCM's DICOM reader)
-  // abort on damaged input instead of failing (found by fuzz/frame_file_fuzz).
+  // Only the formats frames are written in (TIFF, and PNG from earlier versions) are decoded,
+  // each by its own library.
   const auto starts_with = [&bytes](std::string_view magic) {
     return bytes.size() >= magic.size() && std::string_view(bytes).substr(0, magic.size()) == magic;
   };
   const bool tiff = starts_with(std::string_view("II*\0", 4)) || starts_with(std::string_view("MM\0*", 4));
   const bool png = starts_with("\x89PNG\r\n\x1a\n");
   std::string description;
-  const bool expected = width > 0 && height > 0 &&
-                        ((tiff && TiffDescribesFrame(bytes, width, height, &description)) ||
-                         (png && PngDescribesFrame(bytes, width, height)));
-  if (expected && bytes.size() < (1u << 31)) {
-    try {
-      image = cv::imdecode(
-          cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
-          cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-      image = cv::Mat();  // reported below as not a frame
-    }
-  }
-  if (image.empty() || image.type() != CV_16UC1 || image.cols != width || image.rows != height) {
+  std::vector<uint16_t> samples;
+  const bool read = width > 0 && height > 0 &&
+                    ((tiff && ReadTiffFrame(bytes, width, height, &description, &samples)) ||
+                     (png && ReadPngFrame(bytes, width, height, &samples)));
+  if (!read) {
     throw InputError(what + " is not the " + std::to_string(width) + "x" + std::to_string(height) +
                      " 16-bit single-channel image its journal line describes");
-  }
-  std::vector<uint16_t> samples(static_cast<size_t>(width) * height);
-  for (int y = 0; y < height; ++y) {
-    const uint16_t* row = image.ptr<uint16_t>(y);
-    std::copy(row, row + width, samples.begin() + static_cast<size_t>(y) * width);
   }
   bool has_checksum = false;
   uint64_t checksum = 0;

@@ -10,14 +10,14 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
-
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/hash.h"
 #include "basis/parallel.h"
+#include "basis/png.h"
 #include "basis/zonal_basis.h"
 #include "rig/direction_maps.h"
 
@@ -216,19 +216,9 @@ void PatternSet::Compute(const CapturePlan& plan, const RigCalibration& c,
       char file[64];
       std::snprintf(file, sizeof(file), "lobe-%03d.png", static_cast<int>(lobe));
       info.file = file;
-      cv::Mat image(height_, width_, bit_depth_ <= 8 ? CV_8UC1 : CV_16UC1);
-      for (int i = 0; i < pixels; ++i) {
-        if (bit_depth_ <= 8) {
-          image.at<uint8_t>(i / width_, i % width_) = static_cast<uint8_t>(levels[lobe][i]);
-        } else {
-          image.at<uint16_t>(i / width_, i % width_) = levels[lobe][i];
-        }
-      }
-      std::vector<uchar> png;
-      if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 3})) {
-        throw InputError("cannot encode pattern " + folder_ + "/" + file);
-      }
-      WriteFileAtomically(folder_ + "/" + file, std::string(png.begin(), png.end()));
+      PngImage image(width_, height_, 1, bit_depth_ <= 8 ? 8 : 16);
+      std::copy(levels[lobe].begin(), levels[lobe].begin() + pixels, image.samples.begin());
+      WriteFileAtomically(folder_ + "/" + file, EncodePng(image, 3));
     }
   });
   lobes_.clear();
@@ -245,20 +235,25 @@ void PatternSet::Compute(const CapturePlan& plan, const RigCalibration& c,
 
 Pattern PatternSet::Load(int lobe) const {
   const std::string path = folder_ + "/" + lobes_.at(lobe).file;
-  const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (image.empty() || image.rows != height_ || image.cols != width_ || image.channels() != 1) {
-    throw InputError("pattern " + path + " is missing or damaged; delete its folder to recompute it");
+  const auto damaged = [&path] {
+    return InputError("pattern " + path +
+                      " is missing or damaged; delete its folder to recompute it");
+  };
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  if (!in || !(bytes << in.rdbuf())) throw damaged();
+  PngImage image;
+  try {
+    image = DecodePng(bytes.str(), "pattern " + path);
+  } catch (const InputError&) {
+    throw damaged();
   }
+  if (image.height != height_ || image.width != width_ || image.channels != 1) throw damaged();
   Pattern p;
   p.width = width_;
   p.height = height_;
   p.bit_depth = bit_depth_;
-  p.levels.resize(static_cast<size_t>(width_) * height_);
-  for (int y = 0; y < height_; ++y) {
-    for (int x = 0; x < width_; ++x) {
-      p.levels[y * width_ + x] = image.depth() == CV_8U ? image.at<uint8_t>(y, x) : image.at<uint16_t>(y, x);
-    }
-  }
+  p.levels = std::move(image.samples);
   return p;
 }
 

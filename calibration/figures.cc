@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "drivers/bgr_png.h"
 
 namespace zbrdf {
 
@@ -19,9 +18,7 @@ const cv::Scalar kColors[] = {{140, 140, 140}, {40, 40, 220}, {40, 160, 40}, {20
 constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
 
 void Save(const std::string& path, const cv::Mat& image) {
-  std::vector<uchar> png;
-  if (!cv::imencode(".png", image, png)) throw InputError("cannot encode " + path);
-  WriteFileAtomically(path, std::string(png.begin(), png.end()));
+  WriteFileAtomically(path, EncodeBgrPng(image));
 }
 
 std::string Tick(double v) {

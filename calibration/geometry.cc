@@ -1,11 +1,10 @@
 #include "calibration/geometry.h"
 
+#include <ceres/ceres.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-
-#include <ceres/ceres.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "basis/atomic_file.h"
@@ -13,6 +12,7 @@
 #include "basis/option_checker.h"
 #include "basis/parallel.h"
 #include "basis/zone.h"
+#include "drivers/bgr_png.h"
 #include "rig/optics.h"
 
 namespace zbrdf {
@@ -560,9 +560,7 @@ void WriteGeometryFigure(const std::string& path, const GeometryResult& result, 
   std::snprintf(title, sizeof(title), "geometry: edges observed (blue), fitted (red); edge rms %.3g px",
                 result.report.value("edge_rms_px", 0.0));
   cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  std::vector<uchar> png;
-  cv::imencode(".png", img, png);
-  WriteFileAtomically(path, std::string(png.begin(), png.end()));
+  WriteFileAtomically(path, EncodeBgrPng(img));
 }
 
 }  // namespace zbrdf

@@ -1,11 +1,11 @@
 #include "pictures/brdf_figure.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "basis/atomic_file.h"
@@ -93,15 +93,10 @@ FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigureP
                               int size) {
   FigureStats stats;
   const cv::Mat image = DrawSphereFigure(panels, size, &stats);
-  std::vector<uchar> bytes;
-  bool ok = false;
-  try {
-    ok = cv::imencode(std::filesystem::path(path).extension().string(), image, bytes);
-  } catch (const cv::Exception& e) {
-    throw InputError("cannot write figure " + path + ": " + e.what());
-  }
-  if (!ok) throw InputError("cannot write figure " + path + " (give it a .png name)");
-  WriteFileAtomically(path, std::string(bytes.begin(), bytes.end()));
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".png") throw InputError("cannot write figure " + path + ": give it a .png name");
+  WriteFileAtomically(path, EncodePng(image));
   return stats;
 }
 

@@ -31,7 +31,8 @@ struct FigureStats {
 cv::Mat DrawSphereFigure(const std::vector<FigurePanel>& panels, int size = 256,
                          FigureStats* stats = nullptr);
 
-// Writes DrawSphereFigure's image as a PNG. Throws InputError if the file cannot be written.
+// Writes DrawSphereFigure's image as a PNG. Throws InputError if path does not end in .png or the
+// file cannot be written.
 FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigurePanel>& panels,
                               int size = 256);
 

@@ -2,10 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <vector>
-
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"

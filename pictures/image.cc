@@ -11,11 +11,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
+#include <fstream>
+#include <sstream>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "drivers/bgr_png.h"
 
 namespace zbrdf {
 namespace {
@@ -47,22 +50,89 @@ RgbImage ReadHdrImage(const std::string& path, int* negative_pixels) {
   if (!std::filesystem::is_regular_file(path)) {
     throw InputError("cannot read Radiance HDR image " + path + ": no such file");
   }
-  cv::Mat bgr;
-  try {
-    bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-  } catch (const cv::Exception& e) {
-    throw InputError("cannot read Radiance HDR image " + path + ": " + e.what());
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream buffer;
+  if (!in || !(buffer << in.rdbuf())) {
+    throw InputError("cannot read Radiance HDR image " + path + ": the file cannot be read");
   }
-  if (bgr.empty() || bgr.type() != CV_32FC3) {
-    throw InputError("cannot read Radiance HDR image " + path +
-                     ": not an RGBE file OpenCV can decode (write .hdr or .exr)");
+  const std::string bytes = buffer.str();
+  const auto fail = [&path](const std::string& why) {
+    return InputError("cannot read Radiance HDR image " + path + ": " + why +
+                      " (write it again as a standard .hdr, or as .exr)");
+  };
+  // Header (Ward, "Real pixels", Graphics Gems II, and Radiance's file formats): "#?" and the
+  // program name, lines of VARIABLE=value up to an empty line, then the resolution line. Only the
+  // RGBE format is read; EXPOSURE and other variables are ignored, as most readers do.
+  size_t at = 0;
+  const auto next_line = [&bytes, &at](std::string* line) {
+    const size_t end = bytes.find('\n', at);
+    if (end == std::string::npos) return false;
+    *line = bytes.substr(at, end - at);
+    at = end + 1;
+    return true;
+  };
+  std::string line;
+  if (!next_line(&line) || line.compare(0, 2, "#?") != 0) throw fail("it does not start with #?");
+  while (true) {
+    if (!next_line(&line)) throw fail("its header does not end");
+    if (line.empty()) break;
+    if (line.compare(0, 7, "FORMAT=") == 0 && line != "FORMAT=32-bit_rle_rgbe") {
+      throw fail("its pixels are " + line.substr(7) + ", not 32-bit_rle_rgbe");
+    }
   }
-  RgbImage image(bgr.cols, bgr.rows);
+  int width = 0, height = 0, consumed = 0;
+  if (!next_line(&line) ||
+      std::sscanf(line.c_str(), "-Y %d +X %d%n", &height, &width, &consumed) != 2 ||
+      consumed != static_cast<int>(line.size())) {
+    throw fail("its resolution line '" + line.substr(0, 40) +
+               "' is not '-Y height +X width' (the standard orientation)");
+  }
+  if (width <= 0 || height <= 0 || static_cast<uint64_t>(width) * height > (1ull << 28)) {
+    throw fail("it declares " + std::to_string(width) + "x" + std::to_string(height) + " pixels");
+  }
+  // Scanlines of RGBE quadruples, each flat or, for widths of 8 to 32767, run-length encoded per
+  // component: 2, 2, width (16 bits), then runs (count > 128: count - 128 copies of one byte) and
+  // literals (count <= 128 bytes) of R, then G, B and E.
+  const auto byte_at = [&bytes](size_t i) { return static_cast<uint8_t>(bytes[i]); };
+  std::vector<uint8_t> scanline(static_cast<size_t>(width) * 4);
+  RgbImage image(width, height);
   int negatives = 0;
-  for (int y = 0; y < bgr.rows; ++y) {
-    for (int x = 0; x < bgr.cols; ++x) {
-      const cv::Vec3f p = bgr.at<cv::Vec3f>(y, x);
-      StorePixel(path, image, static_cast<size_t>(y) * image.width + x, Rgb(p[2], p[1], p[0]),
+  for (int y = 0; y < height; ++y) {
+    const bool rle = width >= 8 && width <= 0x7fff && at + 4 <= bytes.size() && byte_at(at) == 2 &&
+                     byte_at(at + 1) == 2 && (byte_at(at + 2) & 0x80) == 0;
+    if (rle) {
+      if ((byte_at(at + 2) << 8 | byte_at(at + 3)) != width) {
+        throw fail("scanline " + std::to_string(y) + " has the wrong length");
+      }
+      at += 4;
+      for (int c = 0; c < 4; ++c) {
+        for (int x = 0; x < width;) {
+          if (at >= bytes.size()) throw fail("it ends in scanline " + std::to_string(y));
+          int count = byte_at(at++);
+          const bool run = count > 128;
+          if (run) count -= 128;
+          if (count == 0 || count > width - x || at + (run ? 1 : count) > bytes.size()) {
+            throw fail("scanline " + std::to_string(y) + " is damaged");
+          }
+          for (int k = 0; k < count; ++k) {
+            scanline[static_cast<size_t>(x + k) * 4 + c] = byte_at(run ? at : at + k);
+          }
+          at += run ? 1 : count;
+          x += count;
+        }
+      }
+    } else {
+      if (at + scanline.size() > bytes.size()) {
+        throw fail("it ends in scanline " + std::to_string(y));
+      }
+      std::memcpy(scanline.data(), bytes.data() + at, scanline.size());
+      at += scanline.size();
+    }
+    for (int x = 0; x < width; ++x) {
+      const uint8_t* q = &scanline[static_cast<size_t>(x) * 4];
+      // Mantissas times 2^(E - 128 - 8); E = 0 is black.
+      const double f = q[3] == 0 ? 0.0 : std::ldexp(1.0, static_cast<int>(q[3]) - 136);
+      StorePixel(path, image, static_cast<size_t>(y) * width + x, Rgb(q[0] * f, q[1] * f, q[2] * f),
                  &negatives);
     }
   }
@@ -158,11 +228,7 @@ cv::Mat ToneMap(const RgbImage& image, double exposure_ev) {
   return out;
 }
 
-std::string EncodePng(const cv::Mat& bgr) {
-  std::vector<uchar> bytes;
-  if (!cv::imencode(".png", bgr, bytes)) throw InputError("cannot encode a PNG image");
-  return std::string(bytes.begin(), bytes.end());
-}
+std::string EncodePng(const cv::Mat& bgr) { return EncodeBgrPng(bgr); }
 
 void WritePng(const std::string& path, const cv::Mat& bgr) {
   WriteFileAtomically(path, EncodePng(bgr));

@@ -1,17 +1,17 @@
 #include "acquisition/frame_file.h"
 
+#include <gtest/gtest.h>
+#include <tiffio.h>
+
 #include <fstream>
 #include <iterator>
 #include <random>
 #include <sstream>
-
-#include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
-#include <tiffio.h>
 #include <tiffio.hxx>
 
 #include "basis/error.h"
 #include "basis/hash.h"
+#include "basis/png.h"
 
 namespace zbrdf {
 namespace {
@@ -51,22 +51,45 @@ TEST(FrameFile, SameSamplesGiveSameBytes) {
 }
 
 TEST(FrameFile, OtherToolsReadIt) {
-  // OpenCV's TIFF reader (libtiff) is an independent decoder of the same file.
+  // libtiff's strip interface (DecodeFrameFile reads scanlines) is another reader of the file:
+  // 16-bit gray, and every sample as the frame has it.
   const Frame f = RandomFrame(200, 100, 12, 11);
   const std::string bytes = EncodeFrameFile(f);
-  const cv::Mat image =
-      cv::imdecode(std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_UNCHANGED);
-  ASSERT_EQ(image.type(), CV_16UC1);
-  ASSERT_EQ(image.cols, 200);
-  EXPECT_EQ(image.at<uint16_t>(57, 133), f.data[57 * 200 + 133]);
+  std::istringstream in(bytes);
+  TIFF* tiff = TIFFStreamOpen("frame", static_cast<std::istream*>(&in));
+  ASSERT_NE(tiff, nullptr);
+  uint32_t width = 0, height = 0;
+  uint16_t bits = 0;
+  TIFFGetField(tiff, TIFFTAG_IMAGEWIDTH, &width);
+  TIFFGetField(tiff, TIFFTAG_IMAGELENGTH, &height);
+  TIFFGetField(tiff, TIFFTAG_BITSPERSAMPLE, &bits);
+  EXPECT_EQ(width, 200u);
+  EXPECT_EQ(height, 100u);
+  EXPECT_EQ(bits, 16);
+  std::vector<uint16_t> samples(f.data.size());
+  tmsize_t read = 0;
+  for (tstrip_t s = 0; s < TIFFNumberOfStrips(tiff); ++s) {
+    const tmsize_t n = TIFFReadEncodedStrip(tiff, s, reinterpret_cast<char*>(samples.data()) + read,
+                                            static_cast<tmsize_t>(samples.size() * 2) - read);
+    ASSERT_GT(n, 0) << s;
+    read += n;
+  }
+  TIFFClose(tiff);
+  EXPECT_EQ(read, static_cast<tmsize_t>(samples.size() * 2));
+  EXPECT_EQ(samples, f.data);
 }
 
 TEST(FrameFile, ReadsPngFramesOfOlderSessions) {
   const Frame f = RandomFrame(40, 30, 12, 5);
-  std::vector<uchar> png;
-  cv::Mat image(30, 40, CV_16UC1, const_cast<uint16_t*>(f.data.data()));
-  ASSERT_TRUE(cv::imencode(".png", image, png));
-  EXPECT_EQ(DecodeFrameFile(std::string(png.begin(), png.end()), 40, 30, "png"), f.data);
+  PngImage image(40, 30, 1, 16);
+  image.samples = f.data;
+  const std::string png = EncodePng(image);
+  EXPECT_EQ(DecodeFrameFile(png, 40, 30, "png"), f.data);
+  // A PNG of the right size but 8 bits, or RGB, is not a frame.
+  PngImage gray8(40, 30, 1, 8), rgb16(40, 30, 3, 16);
+  EXPECT_THROW(DecodeFrameFile(EncodePng(gray8), 40, 30, "8-bit"), InputError);
+  EXPECT_THROW(DecodeFrameFile(EncodePng(rgb16), 40, 30, "rgb"), InputError);
+  EXPECT_THROW(DecodeFrameFile(png.substr(0, png.size() - 20), 40, 30, "cut"), InputError);
 }
 
 TEST(FrameFile, RejectsRgbAndMisSizedFrames) {
@@ -85,8 +108,8 @@ TEST(FrameFile, GarbageTruncationAndWrongSizeAreInputErrors) {
   EXPECT_THROW(DecodeFrameFile("this is not an image", 64, 64, "text"), InputError);
   EXPECT_THROW(DecodeFrameFile(bytes.substr(0, 100), 64, 64, "truncated"), InputError);
   EXPECT_THROW(DecodeFrameFile(bytes, 32, 64, "wrong size"), InputError);
-  // Bytes of another format OpenCV knows, here with a DICOM tag: GDCM's reader asserts (aborts)
-  // on them, so they must not reach cv::imdecode (fuzz corpus regression-dicom-magic-aborts-gdcm).
+  // Bytes of another format, here with a DICOM tag: GDCM's reader asserted (aborted) on them when
+  // frames were decoded by OpenCV (fuzz corpus regression-dicom-magic-aborts-gdcm).
   std::string dicom(132, '\0');
   dicom += "DICM";
   dicom += std::string("\x02\x00\x00\x00OB\xff\xff\x1d\x63", 12);

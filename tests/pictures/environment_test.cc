@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
-
-#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
@@ -69,6 +71,46 @@ namespace {
 namespace ZBRDF_TEST_FILE_ID {
 
 // A small map with distinct, asymmetric values: pixel (x, y) = (x + 1, y + 1, x y + 1) / 8.
+// A Radiance RGBE file of `image` (Ward, "Real pixels", Graphics Gems II; Radiance's file
+// formats), written here independently of the reader: even scanlines run-length encoded per
+// component (runs of 3 or more equal bytes, literals of at most 128), odd ones flat.
+std::string RadianceFile(const RgbImage& image) {
+  std::string out = "#?RADIANCE\n# test\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1.0\n\n-Y " +
+                    std::to_string(image.height) + " +X " + std::to_string(image.width) + "\n";
+  for (int y = 0; y < image.height; ++y) {
+    std::vector<unsigned char> rgbe(static_cast<size_t>(image.width) * 4);
+    for (int x = 0; x < image.width; ++x) {
+      const Rgb v = image.At(x, y);
+      int e = 0;
+      const double scale = v.Max() > 0 ? std::frexp(v.Max(), &e) * 256.0 / v.Max() : 0.0;
+      for (int c = 0; c < 3; ++c) rgbe[x * 4 + c] = static_cast<unsigned char>(v[c] * scale);
+      rgbe[x * 4 + 3] = v.Max() > 0 ? static_cast<unsigned char>(e + 128) : 0;
+    }
+    if (y % 2 == 1) {
+      out.append(rgbe.begin(), rgbe.end());
+      continue;
+    }
+    out += {2, 2, static_cast<char>(image.width >> 8), static_cast<char>(image.width & 0xff)};
+    for (int c = 0; c < 4; ++c) {
+      for (int x = 0; x < image.width;) {
+        int run = 1;
+        while (x + run < image.width && run < 127 && rgbe[(x + run) * 4 + c] == rgbe[x * 4 + c])
+          ++run;
+        if (run >= 3) {
+          out += {static_cast<char>(128 + run), static_cast<char>(rgbe[x * 4 + c])};
+          x += run;
+          continue;
+        }
+        const int n = std::min(image.width - x, 128);
+        out += static_cast<char>(n);
+        for (int k = 0; k < n; ++k) out += static_cast<char>(rgbe[(x + k) * 4 + c]);
+        x += n;
+      }
+    }
+  }
+  return out;
+}
+
 RgbImage Pattern() {
   RgbImage image(16, 8);
   for (int y = 0; y < 8; ++y) {
@@ -145,17 +187,10 @@ TEST(Environment, ReadsRadianceHdrAndOpenExrMapsByExtension) {
   testing::TempDir dir("environment-files");
   const RgbImage pattern = Pattern();
   WriteExrImage(dir.File("map.exr"), pattern);
-  // Radiance RGBE written by OpenCV: a shared 8-bit exponent per pixel, so each channel is
-  // within 1/256 of the pixel's largest (relative) after the round trip.
-  cv::Mat bgr(pattern.height, pattern.width, CV_32FC3);
-  for (int y = 0; y < pattern.height; ++y) {
-    for (int x = 0; x < pattern.width; ++x) {
-      const Rgb& v = pattern.At(x, y);
-      bgr.at<cv::Vec3f>(y, x) = cv::Vec3f(static_cast<float>(v.b), static_cast<float>(v.g),
-                                          static_cast<float>(v.r));
-    }
-  }
-  ASSERT_TRUE(cv::imwrite(dir.File("map.HDR"), bgr));
+  // Radiance RGBE written by RadianceFile below: the pattern's values (k / 8, under 16) are
+  // exact in RGBE (mantissas of 8 bits times 2^(e - 8), e <= 4), so both readers give them back
+  // to rounding.
+  WriteFileAtomically(dir.File("map.HDR"), RadianceFile(pattern));
   const Environment exr = Environment::FromFile(dir.File("map.exr"));
   const Environment hdr = Environment::FromFile(dir.File("map.HDR"));
   ASSERT_EQ(hdr.image().width, 16);
@@ -164,7 +199,7 @@ TEST(Environment, ReadsRadianceHdrAndOpenExrMapsByExtension) {
     const Rgb& want = pattern.pixels[i];
     for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(exr.image().pixels[i][c], want[c], 1e-6);
-      EXPECT_NEAR(hdr.image().pixels[i][c], want[c], want.Max() / 128.0) << i << " " << c;
+      EXPECT_NEAR(hdr.image().pixels[i][c], want[c], 1e-12) << i << " " << c;
     }
   }
   // Errors name the file and what to give.
@@ -177,6 +212,25 @@ TEST(Environment, ReadsRadianceHdrAndOpenExrMapsByExtension) {
   }
   WriteFileAtomically(dir.File("broken.hdr"), "#?RADIANCE\ngarbage");
   EXPECT_THROW(Environment::FromFile(dir.File("broken.hdr")), InputError);
+  // Cut short, another orientation, XYZE pixels, a damaged run: each an InputError naming the file.
+  const std::string good = RadianceFile(pattern);
+  std::string rotated = good, xyze = good, damaged = good;
+  rotated.replace(rotated.find("-Y 8 +X 16"), 10, "+X 16 -Y 8");
+  xyze.replace(xyze.find("rgbe"), 4, "xyze");
+  damaged[damaged.find("+X 16\n") + 6 + 4] = static_cast<char>(200);  // a run past the row's end
+  for (const auto& [name, bytes] : std::vector<std::pair<std::string, std::string>>{
+           {"cut.hdr", good.substr(0, good.size() - 10)},
+           {"rotated.hdr", rotated},
+           {"xyze.hdr", xyze},
+           {"damaged.hdr", damaged}}) {
+    WriteFileAtomically(dir.File(name), bytes);
+    try {
+      Environment::FromFile(dir.File(name));
+      ADD_FAILURE() << name << " was read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
   EXPECT_THROW(Environment::FromFile(dir.File("missing.hdr")), InputError);
 }
 

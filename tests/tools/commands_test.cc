@@ -5,9 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "acquisition/zonal.h"
+#include "basis/png.h"
 #include "basis/spherical_harmonics.h"
 #include "brdf/material_spec.h"
 #include "pictures/image.h"
@@ -76,8 +76,8 @@ TEST(Commands, ExportPreviewPlotCompareReportOnASession) {
                 dir.File("ball.exr")),
             0)
       << testing::ReadFile(dir.File("err.txt"));
-  const cv::Mat ball = cv::imread(dir.File("ball.png"));
-  EXPECT_EQ(ball.rows, 24);
+  const PngImage ball = DecodePng(testing::ReadFile(dir.File("ball.png")), "ball.png");
+  EXPECT_EQ(ball.height, 24);
   const RgbImage linear = ReadExrImage(dir.File("ball.exr"));
   EXPECT_EQ(linear.width, 24);
   EXPECT_EQ(run("preview lambert:0.5 --light dir:30,0 --envmap sky --out " + dir.File("x.png")), 2);

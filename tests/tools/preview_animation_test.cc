@@ -5,9 +5,9 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "acquisition/zonal.h"
+#include "basis/png.h"
 #include "brdf/dbrdf_file.h"
 #include "pictures/image.h"
 #include "tests/acquisition/session_fixture.h"
@@ -37,7 +37,7 @@ TEST(PreviewAnimation, TurntableWritesFramesAnAnimatedPngAndItsRecord) {
   for (int t = 0; t < 4; ++t) {
     char name[32];
     std::snprintf(name, sizeof(name), "/frame-%04d", t);
-    EXPECT_EQ(cv::imread(out + name + ".png").rows, 24) << t;
+    EXPECT_EQ(DecodePng(testing::ReadFile(out + name + ".png"), name).height, 24) << t;
     EXPECT_EQ(ReadExrImage(exr + name + ".exr").width, 24) << t;
   }
   // The animation: a PNG whose second chunk is acTL with 4 frames.
