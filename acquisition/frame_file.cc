@@ -1,10 +1,10 @@
 #include "acquisition/frame_file.h"
 
-#include <tiffio.h>
-
 #include <cstdio>
 #include <sstream>
 #include <string_view>
+
+#include <tiffio.h>
 #include <tiffio.hxx>
 
 #include "basis/error.h"
@@ -124,16 +124,12 @@ bool PngDescribesFrame(const std::string& bytes, int width, int height) {
          static_cast<unsigned char>(bytes[24]) == 16 && bytes[25] == 0;
 }
 
-// The same for a PNG (frames of earlier versions): 16-bit gray, width x height, undamaged.
+// The same for a PNG (frames of earlier versions): 16-bit gray, width x height, undamaged. The
+// IHDR PngDescribesFrame checks is the one the decoder reads, so the image has that shape.
 bool ReadPngFrame(const std::string& bytes, int width, int height, std::vector<uint16_t>* samples) {
   if (!PngDescribesFrame(bytes, width, height)) return false;
   try {
-    PngImage image = DecodePng(bytes, "frame");
-    if (image.width != width || image.height != height || image.channels != 1 ||
-        image.bit_depth != 16) {
-      return false;
-    }
-    *samples = std::move(image.samples);
+    *samples = DecodePng(bytes, "frame").samples;
     return true;
   } catch (const InputError&) {
     return false;

@@ -10,8 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"

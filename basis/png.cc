@@ -24,12 +24,18 @@ constexpr uint8_t kPngColorType[5] = {0, SPNG_COLOR_TYPE_GRAYSCALE, SPNG_COLOR_T
 // Decoded pixels a reader allocates at most: a damaged or hostile header can declare 2^31 x 2^31.
 constexpr size_t kMaxPngDecodedBytes = size_t{2} << 30;
 
+// Whether PngImage's fields describe an image PNG can hold (checked by its constructor and by
+// EncodePng).
+bool IsPngShape(int width, int height, int channels, int bit_depth) {
+  return width > 0 && height > 0 && channels >= 1 && channels <= 4 &&
+         (bit_depth == 8 || bit_depth == 16);
+}
+
 }  // namespace
 
 PngImage::PngImage(int width_in, int height_in, int channels_in, int bit_depth_in)
     : width(width_in), height(height_in), channels(channels_in), bit_depth(bit_depth_in) {
-  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
-      (bit_depth != 8 && bit_depth != 16)) {
+  if (!IsPngShape(width, height, channels, bit_depth)) {
     throw InputError("a PNG image of " + std::to_string(width) + "x" + std::to_string(height) +
                      " pixels, " + std::to_string(channels) + " channels of " +
                      std::to_string(bit_depth) +
@@ -39,8 +45,7 @@ PngImage::PngImage(int width_in, int height_in, int channels_in, int bit_depth_i
 }
 
 std::string EncodePng(const PngImage& image, int compression_level) {
-  if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
-      (image.bit_depth != 8 && image.bit_depth != 16) ||
+  if (!IsPngShape(image.width, image.height, image.channels, image.bit_depth) ||
       image.samples.size() != static_cast<size_t>(image.width) * image.height * image.channels) {
     throw InputError("cannot encode a PNG of " + std::to_string(image.width) + "x" +
                      std::to_string(image.height) + " pixels, " + std::to_string(image.channels) +
@@ -84,8 +89,9 @@ std::string EncodePng(const PngImage& image, int compression_level) {
   if (!error) {
     error = spng_encode_image(ctx.get(), pixels, pixel_bytes, SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
   }
-  if (error)
+  if (error) {
     throw InternalError(std::string("libspng cannot encode a PNG: ") + spng_strerror(error));
+  }
   size_t size = 0;
   void* buffer = spng_get_png_buffer(ctx.get(), &size, &error);
   if (buffer == nullptr || error) {

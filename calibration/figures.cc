@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
 #include <opencv2/imgproc.hpp>
 
 #include "basis/atomic_file.h"

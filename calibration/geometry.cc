@@ -1,10 +1,10 @@
 #include "calibration/geometry.h"
 
-#include <ceres/ceres.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+
+#include <ceres/ceres.h>
 #include <opencv2/imgproc.hpp>
 
 #include "basis/atomic_file.h"

@@ -7,6 +7,7 @@
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "drivers/bgr_png.h"
 #include "pictures/image.h"
 
 namespace zbrdf {
@@ -76,7 +77,7 @@ std::string EncodeAnimatedPng(const std::vector<cv::Mat>& frames, int fps) {
                        " differs from frame 0 in size or type; every frame must be " +
                        std::to_string(width) + " x " + std::to_string(height) + " 8-bit BGR");
     }
-    const std::vector<Chunk> chunks = ParseChunks(EncodePng(frames[f]));
+    const std::vector<Chunk> chunks = ParseChunks(EncodeBgrPng(frames[f]));
     if (f == 0) {
       ZBRDF_ASSERT(!chunks.empty() && chunks[0].type == "IHDR", "PNG without IHDR first");
       PutChunk(out, "IHDR", chunks[0].data);

@@ -11,6 +11,7 @@
 #include "basis/atomic_file.h"
 #include "basis/error.h"
 #include "basis/parallel.h"
+#include "drivers/bgr_png.h"
 #include "pictures/image.h"
 
 namespace zbrdf {
@@ -96,7 +97,7 @@ FigureStats WriteSphereFigure(const std::string& path, const std::vector<FigureP
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".png") throw InputError("cannot write figure " + path + ": give it a .png name");
-  WriteFileAtomically(path, EncodePng(image));
+  WriteFileAtomically(path, EncodeBgrPng(image));
   return stats;
 }
 

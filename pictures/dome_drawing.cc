@@ -2,8 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
-#include <opencv2/imgproc.hpp>
 #include <vector>
+
+#include <opencv2/imgproc.hpp>
 
 #include "basis/atomic_file.h"
 #include "basis/error.h"

@@ -22,6 +22,7 @@
 #include "brdf/material_spec.h"
 #include "brdf/sh_brdf.h"
 #include "brdf/sh_file.h"
+#include "drivers/bgr_png.h"
 #include "pictures/brdf_compare.h"
 #include "pictures/brdf_figure.h"
 #include "pictures/brdf_plots.h"
@@ -141,8 +142,8 @@ std::string Figure(const cv::Mat& image, const std::string& caption, const std::
     width = display;
   }
   return "<figure" + (id.empty() ? std::string() : " id=\"" + id + "\"") + ">" +
-         ImageTag(EncodePng(image), caption, width, height) + "<figcaption>" + HtmlEscape(caption) +
-         "</figcaption></figure>\n";
+         ImageTag(EncodeBgrPng(image), caption, width, height) + "<figcaption>" +
+         HtmlEscape(caption) + "</figcaption></figure>\n";
 }
 
 std::string Scalar(const nlohmann::json& v) {
@@ -947,7 +948,7 @@ SessionReportPage BuildSessionReport(const std::string& dir, const ReportOptions
   // The commands the texts suggest, for this session.
   for (SummaryError& e : s.errors) e.missing = WithSession(e.missing, dir);
   for (std::string& w : s.warnings) w = WithSession(w, dir);
-  if (!fit_ball.empty()) s.thumbnail_png = EncodePng(Thumbnail(fit_ball));
+  if (!fit_ball.empty()) s.thumbnail_png = EncodeBgrPng(Thumbnail(fit_ball));
 
   std::string body;
   page.sections.push_back("Summary");

@@ -228,10 +228,8 @@ cv::Mat ToneMap(const RgbImage& image, double exposure_ev) {
   return out;
 }
 
-std::string EncodePng(const cv::Mat& bgr) { return EncodeBgrPng(bgr); }
-
 void WritePng(const std::string& path, const cv::Mat& bgr) {
-  WriteFileAtomically(path, EncodePng(bgr));
+  WriteFileAtomically(path, EncodeBgrPng(bgr));
 }
 
 }  // namespace zbrdf

@@ -42,7 +42,6 @@ double SrgbEncode(double linear);
 
 // Writes an 8-bit image as PNG (atomically). Throws InputError if it cannot.
 void WritePng(const std::string& path, const cv::Mat& bgr);
-// The PNG file's bytes (for embedding).
-std::string EncodePng(const cv::Mat& bgr);
+// The PNG file's bytes (for embedding): EncodeBgrPng, drivers/bgr_png.h.
 
 }  // namespace zbrdf
