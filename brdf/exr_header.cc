@@ -24,6 +24,14 @@ const std::map<std::string, int32_t>& FixedSizes() {
   return sizes;
 }
 
+// Scan lines per chunk of a scanline part, by OpenEXR's compression code (the file format's
+// table: NONE, RLE, ZIPS 1; ZIP, PXR24 16; PIZ, B44, B44A, DWAA 32; DWAB 256); 0 for a code
+// OpenEXR does not know (it reports that itself).
+int64_t LinesPerChunk(int compression) {
+  constexpr int64_t kLines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+  return compression >= 0 && compression < 10 ? kLines[compression] : 0;
+}
+
 int32_t Int32At(const char* p) {
   int32_t v;
   std::memcpy(&v, p, 4);  // little-endian, as is every EXR integer
@@ -63,9 +71,15 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
     pos = end + 1;
     return true;
   };
+  // A single-part file's version field says whether it is tiled (bit 9); a multi-part file's
+  // parts say so in their 'type' attribute.
+  const bool single_part_tiled = (static_cast<unsigned char>(head[5]) & 0x02) != 0;
   for (int part = 0;; ++part) {
     if (part > 0 && (!multipart || pos >= head.size() || head[pos] == '\0')) return;
     int64_t width = 0, height = 0, bytes_per_pixel = 0;
+    int compression = -1;            // the 'compression' attribute's value, if read
+    int64_t tile_x = 0, tile_y = 0;  // the 'tiles' attribute's tile size, if any
+    bool tiled = !multipart && single_part_tiled;
     for (;;) {
       std::string name, type;
       if (!read_name(&name)) return;
@@ -131,6 +145,17 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
           fail(name, "is " + std::to_string(width) + " x " + std::to_string(height) + " pixels");
         }
       }
+      if (name == "compression" && type == "compression") {
+        compression = static_cast<unsigned char>(value[0]);
+      }
+      if (name == "tiles" && type == "tiledesc") {
+        tile_x = static_cast<uint32_t>(Int32At(value));
+        tile_y = static_cast<uint32_t>(Int32At(value + 4));
+      }
+      if (name == "type" && type == "string") {
+        const std::string part_type(value, static_cast<size_t>(size));
+        tiled = part_type == "tiledimage" || part_type == "deeptile";
+      }
       if (name == "chunkCount" && type == "int") {
         const int32_t chunks = Int32At(value);
         if (chunks < 0 || chunks > file_size / 8) {  // each chunk has an 8-byte offset
@@ -138,6 +163,28 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
         }
       }
       pos += static_cast<size_t>(size);
+    }
+    // OpenEXR reads (and first allocates, and zeroes) a table of one 8-byte offset per chunk
+    // before any pixel: a scanline part has one chunk per block of lines (the compression's
+    // block: 1, 16, 32 or 256 lines), a tiled one at least one per tile of its full-resolution
+    // level. A table that cannot fit in the file means a damaged header, and reading it would
+    // cost up to 128 MB (2^24 single-line chunks) before OpenEXR found the file short.
+    if (width > 0 && height > 0) {
+      int64_t chunks = 0;
+      if (tiled) {
+        if (tile_x > 0 && tile_y > 0) {
+          chunks = ((width + tile_x - 1) / tile_x) * ((height + tile_y - 1) / tile_y);
+        }
+      } else if (const int64_t lines = LinesPerChunk(compression); lines > 0) {
+        chunks = (height + lines - 1) / lines;
+      }
+      if (chunks > file_size / 8) {
+        throw InputError(what + ": an image part of " + std::to_string(width) + " x " +
+                         std::to_string(height) + " pixels has " + std::to_string(chunks) +
+                         " chunks, whose offset table alone (8 bytes each) is larger than the " +
+                         std::to_string(file_size) +
+                         "-byte file; the file is truncated or corrupt");
+      }
     }
     if (width * height * bytes_per_pixel > max_pixel_bytes) {
       throw InputError(what + ": an image part declares " + std::to_string(width) + " x " +

@@ -15,8 +15,10 @@
 namespace zbrdf {
 
 // Throws InputError naming `what` (e.g. "zonal file x.exr") if a header attribute of the file at
-// `path` declares a negative size or more bytes than the file holds. Does nothing if the file
-// cannot be read or is not OpenEXR (the caller's reader says so).
+// `path` declares a negative size or more bytes than the file holds, or a part declares more
+// chunks (scan-line blocks or tiles) than the file has room for their 8-byte offsets (OpenEXR
+// allocates that table before reading anything else). Does nothing if the file cannot be read
+// or is not OpenEXR (the caller's reader says so).
 void CheckExrHeaderSizes(const std::string& path, const std::string& what);
 
 // Throws InputError naming `what` and the part unless the data window starts at (0, 0) and is
