@@ -81,11 +81,6 @@ int64_t RealTimeUs() { return g_get_real_time(); }
 
 }  // namespace
 
-bool IsIpv4Address(const std::string& text) {
-  in_addr address{};
-  return inet_pton(AF_INET, text.c_str(), &address) == 1;
-}
-
 std::string LocalInterfaceFor(const std::string& remote_ip) {
   in_addr remote{};
   if (inet_pton(AF_INET, remote_ip.c_str(), &remote) != 1) {

@@ -127,9 +127,6 @@ class AravisCamera final : public Camera {
 // no packet is sent). Throws InputError for a malformed address, DeviceError if unroutable.
 std::string LocalInterfaceFor(const std::string& remote_ip);
 
-// True for a dotted-quad IPv4 address such as "192.0.2.10".
-bool IsIpv4Address(const std::string& text);
-
 // ---- Camera directory: serial -> IP, written by `zbrdf devices --save` ----
 
 struct CameraDirectoryEntry {

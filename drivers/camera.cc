@@ -1,5 +1,7 @@
 #include "drivers/camera.h"
 
+#include <arpa/inet.h>
+
 #include "basis/error.h"
 
 namespace zbrdf {
@@ -29,6 +31,11 @@ PixelLayout ParsePixelLayout(const std::string& name) {
   }
   throw InputError("unknown pixel layout '" + name +
                    "'; use one of mono, bayer-rggb, bayer-grbg, bayer-gbrg, bayer-bggr, rgb");
+}
+
+bool IsIpv4Address(const std::string& text) {
+  in_addr address{};
+  return inet_pton(AF_INET, text.c_str(), &address) == 1;
 }
 
 }  // namespace zbrdf
