@@ -22,12 +22,12 @@ enum class PixelLayout { kMono, kBayerRGGB, kBayerGRBG, kBayerGBRG, kBayerBGGR, 
 std::string PixelLayoutName(PixelLayout layout);
 // Inverse of PixelLayoutName; throws InputError naming the accepted values.
 PixelLayout ParsePixelLayout(const std::string& name);
+// Samples per pixel: 3 for kRgb, else 1.
+inline int SamplesPerPixel(PixelLayout layout) { return layout == PixelLayout::kRgb ? 3 : 1; }
 
 // True for a dotted-quad IPv4 address such as "192.0.2.10" (how cameras are addressed: by IP,
 // never by discovery).
 bool IsIpv4Address(const std::string& text);
-// Samples per pixel: 3 for kRgb, else 1.
-inline int SamplesPerPixel(PixelLayout layout) { return layout == PixelLayout::kRgb ? 3 : 1; }
 
 struct Frame {
   int width = 0;
