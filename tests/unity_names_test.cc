@@ -172,8 +172,10 @@ std::vector<std::string> Clashes(const std::map<std::string, FileScan>& files) {
   std::vector<std::string> clashes;
   for (const auto& [name, uses] : by_name) {
     if (uses.size() < 2) continue;
+    // (A named copy: clang 14 cannot capture a structured binding in a lambda.)
+    const std::string& first_text = uses.front().second->text;
     const bool harmless = std::all_of(uses.begin(), uses.end(), [&](const auto& u) {
-      return u.second->repeatable && u.second->text == uses.front().second->text;
+      return u.second->repeatable && u.second->text == first_text;
     });
     if (harmless) continue;
     std::string message = name + " is declared file-locally in " + std::to_string(uses.size()) +
