@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Configures and builds zbrdf (Release) into ./build. Extra arguments go to cmake's configure.
-# A new build folder is compiled with clang where it is installed (scripts/setup.sh installs it for
-# the fuzz stage): it compiles this code in about 25% less CPU time than GCC 12, and the programs
-# it makes are as fast (docs/bench.md, "The compiler"). CC/CXX in the environment, or
+# A new build folder is compiled with clang where it is installed (scripts/setup.sh installs it
+# for the fuzz stage): it compiles this code in about a fifth less CPU time than GCC 12, and the
+# programs it makes are as fast (docs/bench.md, "The compiler"). CC/CXX in the environment, or
 # -DCMAKE_CXX_COMPILER=... among the arguments, choose another; an existing folder keeps the
 # compiler it was configured with (CMake would otherwise discard its cache).
 set -euo pipefail

@@ -172,7 +172,7 @@ std::vector<std::string> Clashes(const std::map<std::string, FileScan>& files) {
   std::vector<std::string> clashes;
   for (const auto& [name, uses] : by_name) {
     if (uses.size() < 2) continue;
-    // (A named copy: clang 14 cannot capture a structured binding in a lambda.)
+    // (Named here: clang 14 cannot capture a structured binding in a lambda.)
     const std::string& first_text = uses.front().second->text;
     const bool harmless = std::all_of(uses.begin(), uses.end(), [&](const auto& u) {
       return u.second->repeatable && u.second->text == first_text;
