@@ -25,6 +25,13 @@ function(zbrdf_use_library_pch target)
   if(NOT ZBRDF_PCH)
     return()
   endif()
+  # Clang also refuses a header made with another default visibility, which GCC takes: a target
+  # compiled with -fvisibility=hidden (pybind11 sets it for the Python module) parses its headers
+  # itself under clang (one source there: a header of its own would cost more than it saves).
+  get_target_property(visibility ${target} CXX_VISIBILITY_PRESET)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang" AND visibility STREQUAL "hidden")
+    return()
+  endif()
   if(NOT TARGET zbrdf_library_pch)
     add_library(zbrdf_library_pch OBJECT "${PROJECT_SOURCE_DIR}/cmake/library_pch.cc")
     target_link_libraries(zbrdf_library_pch PRIVATE Eigen3::Eigen nlohmann_json::nlohmann_json)
