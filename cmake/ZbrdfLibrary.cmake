@@ -1,16 +1,18 @@
 # zbrdf_precompile_common_headers(TARGET [EXTRA...]): the standard, Eigen and JSON headers most
-# sources include (and EXTRA), parsed once per target instead of once per source. GCC takes a
-# precompiled header only if it was made with the same code-generation flags (-fPIE/-fPIC, -O,
-# -pthread's _REENTRANT) and with no command-line macro the user lacks, so headers are shared only
-# between targets compiled alike: every library reuses one (zbrdf_library_pch below), every test
-# binary another. Sources still include what they use; the layering and write-site tests read the
-# sources. -DZBRDF_PCH=OFF turns it off.
+# sources include (and EXTRA), parsed once per target instead of once per source. JSON comes
+# through basis/json_instances.h, which also keeps its serializer and parser from being compiled
+# again in every source that writes or reads JSON text (basis/json_instances.cc has them). GCC
+# takes a precompiled header only if it was made with the same code-generation flags (-fPIE/-fPIC,
+# -O, -pthread's _REENTRANT) and with no command-line macro the user lacks, so headers are shared
+# only between targets compiled alike: every library reuses one (zbrdf_library_pch below), every
+# test binary another. Sources still include what they use; the layering and write-site tests
+# read the sources. -DZBRDF_PCH=OFF turns it off.
 option(ZBRDF_PCH "precompile the common headers" ON)
 function(zbrdf_precompile_common_headers target)
   if(ZBRDF_PCH)
     target_precompile_headers(${target} PRIVATE
       <algorithm> <array> <cmath> <cstdint> <functional> <map> <memory> <string> <vector>
-      <Eigen/Dense> <nlohmann/json.hpp> ${ARGN})
+      <Eigen/Dense> "${PROJECT_SOURCE_DIR}/basis/json_instances.h" ${ARGN})
   endif()
 endfunction()
 
