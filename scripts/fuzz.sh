@@ -56,6 +56,10 @@ else
 fi
 
 runs="$build/fuzz/runs"
+# What every run of a target gets, the fuzzing and a finding's second run alike: UBSan findings
+# abort with a stack trace, an input may take 10 s and 2 GB.
+ubsan_options=print_stacktrace=1:halt_on_error=1
+limits=(-timeout=10 -rss_limit_mb=2048)
 # One target: a scratch copy of the seeds (libFuzzer adds what it finds to it), findings and the
 # log in runs/<target>/; its exit status in runs/<target>/status.
 run_target() {
@@ -78,9 +82,8 @@ run_target() {
   # time over every target's corpus, 10-25% on the YAML readers (docs/fuzzing.md). A finding's
   # report then lacks its allocation and free stacks, so each finding is run once more with them
   # below.
-  ASAN_OPTIONS=${ASAN_OPTIONS:-malloc_context_size=0} \
-    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$build/fuzz/$target" "${budget[@]}" -seed="$seed" -timeout=10 -rss_limit_mb=2048 \
+  ASAN_OPTIONS=${ASAN_OPTIONS:-malloc_context_size=0} UBSAN_OPTIONS=$ubsan_options \
+    "$build/fuzz/$target" "${budget[@]}" -seed="$seed" "${limits[@]}" \
     -print_final_stats=1 -artifact_prefix="$dir/findings/" "$dir/corpus" >"$dir/log" 2>&1 ||
     status=$?
   echo "$status" >"$dir/status"
@@ -111,8 +114,8 @@ for target in "${targets[@]}"; do
       echo "  input: $root/$finding" >&2
       echo "  reproduce: $root/$build/fuzz/$target $root/$finding" >&2
       # The same input with ASan's allocation and free stacks (see run_target).
-      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 "$build/fuzz/$target" -timeout=10 \
-        -rss_limit_mb=2048 "$finding" >"$finding.log" 2>&1 || true
+      UBSAN_OPTIONS=$ubsan_options "$build/fuzz/$target" "${limits[@]}" "$finding" \
+        >"$finding.log" 2>&1 || true
       echo "  its report with allocation stacks: $root/$finding.log" >&2
     done
   fi
