@@ -1,7 +1,8 @@
 # zbrdf_precompile_common_headers(TARGET [EXTRA...]): the standard, Eigen and JSON headers most
-# sources include (and EXTRA), parsed once per target instead of once per source. JSON comes
-# through basis/json_instances.h, which also keeps its serializer and parser from being compiled
-# again in every source that writes or reads JSON text (basis/json_instances.cc has them). GCC
+# sources include (and EXTRA), parsed once per target instead of once per source. Eigen and JSON
+# come through basis/eigen_instances.h and basis/json_instances.h, which also keep Eigen's dense
+# kernels and decompositions and JSON's serializer and parser from being compiled again in every
+# source that uses them (basis/eigen_instances.cc and basis/json_instances.cc have them). GCC
 # takes a precompiled header only if it was made with the same code-generation flags (-fPIE/-fPIC,
 # -O, -pthread's _REENTRANT) and with no command-line macro the user lacks, so headers are shared
 # only between targets compiled alike: every library reuses one (zbrdf_library_pch below), every
@@ -12,7 +13,8 @@ function(zbrdf_precompile_common_headers target)
   if(ZBRDF_PCH)
     target_precompile_headers(${target} PRIVATE
       <algorithm> <array> <cmath> <cstdint> <functional> <map> <memory> <string> <vector>
-      <Eigen/Dense> "${PROJECT_SOURCE_DIR}/basis/json_instances.h" ${ARGN})
+      "${PROJECT_SOURCE_DIR}/basis/eigen_instances.h" "${PROJECT_SOURCE_DIR}/basis/json_instances.h"
+      ${ARGN})
   endif()
 endfunction()
 
