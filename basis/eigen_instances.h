@@ -45,7 +45,8 @@ extern template struct gemm_pack_rhs<double, Index, zbrdf_instances::ColMapper,
 extern template struct gemm_pack_rhs<double, Index, zbrdf_instances::RowMapper,
                                      zbrdf_instances::Traits::nr, RowMajor>;
 
-// Matrix-vector products, with a column-major or row-major (transposed) matrix.
+// Matrix-vector products, with a column-major or row-major (transposed) matrix; the last
+// (BuiltIn) is the one Eigen's triangular matrix-vector product calls.
 extern template struct general_matrix_vector_product<
     Index, double, zbrdf_instances::ColMapper, ColMajor, false, double, zbrdf_instances::RowMapper,
     false, Specialized>;
