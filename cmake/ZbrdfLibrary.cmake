@@ -85,14 +85,10 @@ function(zbrdf_library name)
   endif()
 endfunction()
 
-# zbrdf_test_folder(NAME DEPS...): one GoogleTest binary from every *_test.cc in the calling
-# folder, each test registered with CTest.
-function(zbrdf_test_folder name)
-  file(GLOB sources CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc")
-  if(NOT sources)
-    return()
-  endif()
-  add_executable(${name} ${sources})
+# zbrdf_compile_as_test(TARGET): compiles a test executable's sources the way every test binary's
+# are (zbrdf_test_folder below; the drivers', the GigE capture's and the source checks' binaries,
+# made by hand for their own CTest properties, call it too).
+function(zbrdf_compile_as_test name)
   # Unity build: eight test files per compiler run, so that the templates and inline functions
   # they share (GoogleTest's, Eigen's, the libraries' headers) are instantiated and compiled once
   # per batch instead of once per file. Measured on tests/brdf with the precompiled header: 51 s
@@ -102,12 +98,11 @@ function(zbrdf_test_folder name)
   #   namespace zbrdf { namespace { namespace ZBRDF_TEST_FILE_ID { ... } } }
   set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8
                                            UNITY_BUILD_UNIQUE_ID ZBRDF_TEST_FILE_ID)
-  target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
   # The test binaries share one precompiled header (the first test folder's): unlike the
-  # libraries, they are compiled with the same flags and macros. -pthread (which defines
-  # _REENTRANT) is given to every one, since some get it from the libraries they link and GCC
-  # would reject the header in those. Measured on a clean build: 345 s of CPU for the tests with
-  # one header per binary, about 175 s with the shared one.
+  # libraries, they are compiled with the same flags and macros (a binary may define more, as the
+  # drivers' tests do). -pthread (which defines _REENTRANT) is given to every one, since some get
+  # it from the libraries they link and GCC would reject the header in those. Measured on a clean
+  # build: 345 s of CPU for the tests with one header per binary, about 175 s with the shared one.
   target_compile_options(${name} PRIVATE -pthread)
   get_property(host GLOBAL PROPERTY ZBRDF_TEST_PCH_HOST)
   if(ZBRDF_PCH AND host)
@@ -116,6 +111,8 @@ function(zbrdf_test_folder name)
     zbrdf_precompile_common_headers(${name} <gtest/gtest.h> <filesystem>)
     set_property(GLOBAL PROPERTY ZBRDF_TEST_PCH_HOST ${name})
   endif()
+  # The header's Eigen and JSON includes need their include paths (header-only targets).
+  target_link_libraries(${name} PRIVATE Eigen3::Eigen nlohmann_json::nlohmann_json)
   # Test sources compile at -O1 (about 30% faster than -O3, measured on conversion_test.cc and
   # crash_test.cc); the libraries they test keep the build type's optimization.
   if(CMAKE_BUILD_TYPE STREQUAL "Release")
@@ -125,6 +122,18 @@ function(zbrdf_test_folder name)
     ZBRDF_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     ZBRDF_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/tests/data"
     ZBRDF_BINARY_DIR="${PROJECT_BINARY_DIR}")
+endfunction()
+
+# zbrdf_test_folder(NAME DEPS...): one GoogleTest binary from every *_test.cc in the calling
+# folder, each test registered with CTest.
+function(zbrdf_test_folder name)
+  file(GLOB sources CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc")
+  if(NOT sources)
+    return()
+  endif()
+  add_executable(${name} ${sources})
+  target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
+  zbrdf_compile_as_test(${name})
   # Every test process shares the build tree's cache (direction maps, light transports, true
   # coefficients): a transport one test builds, the next one with the same rig, material and seed
   # reads (entries are written by atomic rename, so concurrent tests are safe).

@@ -18,6 +18,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -210,5 +211,6 @@ TEST(Layering, AForbiddenIncludeIsNamedByFileAndLine) {
   fs::remove_all(root);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

@@ -21,6 +21,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -351,5 +352,6 @@ TEST(UnityNames, ClashesAreNamedAndRepeatedAliasesAreNot) {
   EXPECT_NE(files["b.cc"].violations[0].find("b.cc:6"), std::string::npos);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf

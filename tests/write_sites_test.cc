@@ -28,6 +28,7 @@
 
 namespace zbrdf {
 namespace {
+namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -237,5 +238,6 @@ TEST(WriteSites, TheScannerFindsWritesAndIgnoresCommentsAndMemoryStreams) {
   fs::remove_all(root);
 }
 
+}  // namespace ZBRDF_TEST_FILE_ID
 }  // namespace
 }  // namespace zbrdf
