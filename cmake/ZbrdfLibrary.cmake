@@ -18,6 +18,20 @@ function(zbrdf_precompile_common_headers target)
   endif()
 endfunction()
 
+# zbrdf_share_common_headers(TARGET GROUP [EXTRA...]): TARGET takes the precompiled header of the
+# first target of GROUP, which makes it (zbrdf_precompile_common_headers with EXTRA). Only for
+# targets compiled alike (flags, -O, PIE/PIC, macros; a target may define more): the tests share
+# one, the benchmarks another.
+function(zbrdf_share_common_headers target group)
+  get_property(host GLOBAL PROPERTY ZBRDF_PCH_HOST_${group})
+  if(ZBRDF_PCH AND host)
+    target_precompile_headers(${target} REUSE_FROM ${host})
+  else()
+    zbrdf_precompile_common_headers(${target} ${ARGN})
+    set_property(GLOBAL PROPERTY ZBRDF_PCH_HOST_${group} ${target})
+  endif()
+endfunction()
+
 # The libraries' shared precompiled header: made once, by an object library with no sources of
 # its own and no command-line macros (a header made with -DX is refused by a source compiled
 # without it; one made without is taken by sources that define more), compiled as the libraries
@@ -104,13 +118,7 @@ function(zbrdf_compile_as_test name)
   # it from the libraries they link and GCC would reject the header in those. Measured on a clean
   # build: 345 s of CPU for the tests with one header per binary, about 175 s with the shared one.
   target_compile_options(${name} PRIVATE -pthread)
-  get_property(host GLOBAL PROPERTY ZBRDF_TEST_PCH_HOST)
-  if(ZBRDF_PCH AND host)
-    target_precompile_headers(${name} REUSE_FROM ${host})
-  else()
-    zbrdf_precompile_common_headers(${name} <gtest/gtest.h> <filesystem>)
-    set_property(GLOBAL PROPERTY ZBRDF_TEST_PCH_HOST ${name})
-  endif()
+  zbrdf_share_common_headers(${name} tests <gtest/gtest.h> <filesystem>)
   # The header's Eigen and JSON includes need their include paths (header-only targets).
   target_link_libraries(${name} PRIVATE Eigen3::Eigen nlohmann_json::nlohmann_json)
   # Test sources compile at -O1 (about 30% faster than -O3, measured on conversion_test.cc and
