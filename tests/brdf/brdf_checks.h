@@ -362,12 +362,16 @@ inline double PdfIntegralOverHalfVectors(const Brdf& brdf, const Vec3& w_o,
   return total;
 }
 
-// The half-vector proxy's cells (HalfVectorProxySampler, which samples measured materials) as
-// brdf/proxy_sampler.h documents them: 128 cells of theta_h = (pi/2) x^2 for x uniform.
-inline std::vector<double> ProxyThetaEdges() {
-  std::vector<double> edges;
-  for (int k = 0; k <= 128; ++k) edges.push_back(0.5 * M_PI * k * k / (128.0 * 128.0));
-  return edges;
+// For the half-vector proxy (HalfVectorProxySampler, which samples measured materials): the
+// piecewise-constant cubature, and the normalization over half vectors on the proxy's cells as
+// brdf/proxy_sampler.h documents them (128 cells of theta_h = (pi/2) x^2 for x uniform), where
+// its density has no jump.
+inline SamplingCheckOptions ProxyCellsCubature() {
+  SamplingCheckOptions options = PiecewiseDensityCubature();
+  for (int k = 0; k <= 128; ++k) {
+    options.half_vector_theta_edges.push_back(0.5 * M_PI * k * k / (128.0 * 128.0));
+  }
+  return options;
 }
 
 // Draws opts.samples directions from brdf.Sample(w_o, ...) with a fixed seed, and compares their

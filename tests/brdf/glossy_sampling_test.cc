@@ -71,14 +71,11 @@ TEST(GlossySamplingTest, MixtureIsGlossyPlusCosine) {
 TEST(GlossySamplingTest, NetworkGlossyPartSamplesItsProxyLobes) {
   const std::unique_ptr<Brdf> brdf = MakeBrdf("merl:blue-acrylic");
   const Vec3 w_o = SphericalDirection(0.5, 0.0);
-  testing::SamplingCheckOptions options;
-  options.bins = testing::AxisFrame({-w_o.x, -w_o.y, w_o.z}, testing::AxisFrame::Radial::kSinHalfAngle);
   // The proxy's density is piecewise constant in theta_h: 1e-4 per bin suffices (see
   // proxy_sampler_test.cc) and keeps the cubature fast; the normalization is integrated over
   // half vectors on the proxy's cells, to ~1e-9.
-  options.cubature = {1e-10, 1e-4, 2, 8};
-  options.integral_cubature = {1e-11, 1e-6, 2, 9};
-  options.half_vector_theta_edges = testing::ProxyThetaEdges();
+  testing::SamplingCheckOptions options = testing::ProxyCellsCubature();
+  options.bins = testing::AxisFrame({-w_o.x, -w_o.y, w_o.z}, testing::AxisFrame::Radial::kSinHalfAngle);
   EXPECT_SAMPLING_MATCHES_PDF(GlossyPart(*brdf), w_o, 310, 1e-6, options);
 }
 

@@ -151,11 +151,8 @@ TEST_F(MerlTableTest, SamplesWithItsProxy) {
   // constant in theta_h with the half-vector Jacobian: its normalization integrated over half
   // vectors on the proxy's cells, to ~1e-9 (see proxy_sampler_test.cc), and a cubature of 1e-4
   // per bin.
-  testing::SamplingCheckOptions options;
-  options.cubature = {1e-10, 1e-4, 2, 8};
-  options.integral_cubature = {1e-11, 1e-6, 2, 9};
-  options.half_vector_theta_edges = testing::ProxyThetaEdges();
-  EXPECT_SAMPLING_MATCHES_PDF(*brdf_, SphericalDirection(0.6, 1.0), 92, 1e-6, options);
+  EXPECT_SAMPLING_MATCHES_PDF(*brdf_, SphericalDirection(0.6, 1.0), 92, 1e-6,
+                              testing::ProxyCellsCubature());
 }
 
 TEST_F(MerlTableTest, ZeroBelowTheHorizon) {

@@ -35,18 +35,10 @@ class ProxySampled final : public Brdf {
   HalfVectorProxySampler proxy_;
 };
 
-// The normalization integral over half vectors, on the proxy's cells (PdfIntegralOverHalfVectors),
-// where its density has no jump.
-testing::SamplingCheckOptions OverProxyCells() {
-  testing::SamplingCheckOptions options = testing::PiecewiseDensityCubature();
-  options.half_vector_theta_edges = testing::ProxyThetaEdges();
-  return options;
-}
-
 // Bins about the mirror direction in sin(alpha / 2): the chrome lobe (tens of mrad) spans a few
 // of them instead of a sliver of one (cos theta, phi) bin.
 testing::SamplingCheckOptions AboutMirror(const Vec3& w_o) {
-  testing::SamplingCheckOptions options = OverProxyCells();
+  testing::SamplingCheckOptions options = testing::ProxyCellsCubature();
   options.bins =
       testing::AxisFrame(Vec3{-w_o.x, -w_o.y, w_o.z}, testing::AxisFrame::Radial::kSinHalfAngle);
   return options;
@@ -65,9 +57,9 @@ TEST(HalfVectorProxySamplerTest, SamplingMatchesPdfForSharpAndBroadMaterials) {
     EXPECT_SAMPLING_MATCHES_PDF(*chrome, w_o, 111, 1e-6, AboutMirror(w_o));
   }
   const auto fabric = NbrdfBrdf::FromName("red-fabric");
-  EXPECT_SAMPLING_MATCHES_PDF(*fabric, SphericalDirection(0.5, 2.0), 112, 1e-6, OverProxyCells());
+  EXPECT_SAMPLING_MATCHES_PDF(*fabric, SphericalDirection(0.5, 2.0), 112, 1e-6, testing::ProxyCellsCubature());
   const ProxySampled ggx(std::make_unique<GgxBrdf>(0.1, 0.1, Rgb(0.5), Rgb(0.1)));
-  EXPECT_SAMPLING_MATCHES_PDF(ggx, SphericalDirection(0.8, 5.0), 113, 1e-6, OverProxyCells());
+  EXPECT_SAMPLING_MATCHES_PDF(ggx, SphericalDirection(0.8, 5.0), 113, 1e-6, testing::ProxyCellsCubature());
 }
 
 // Per-sample relative standard deviation of f cos / pdf (luminance) for w_o, with n samples.

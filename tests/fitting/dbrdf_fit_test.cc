@@ -353,7 +353,7 @@ TEST(DBrdfFitTest, FittedModelSamplesItsHalfVectorDistribution) {
   ASSERT_EQ(model.table().phi_samples, 1);
   testing::SamplingCheckOptions options = testing::PiecewiseDensityCubature();
   for (int j = 0; j < model.table().theta_samples; ++j) {
-    options.half_vector_theta_edges.push_back(j * M_PI / 2 / (model.table().theta_samples - 1));
+    options.half_vector_theta_edges.push_back(j * model.table().ThetaStep());
   }
   EXPECT_SAMPLING_MATCHES_PDF(model, Normalize(Vec3{0.6, 0.2, 0.5}), 17, 1e-6, options);
 }
