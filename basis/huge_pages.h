@@ -14,12 +14,18 @@ namespace zbrdf {
 // MADV_HUGEPAGE on Linux; nothing elsewhere). Pages already touched keep their size.
 void AdviseHugePages(const void* data, size_t bytes);
 
+// AdviseHugePages for memory whose contents the caller is about to overwrite: pages already
+// touched inside the range are first given back (madvise MADV_DONTNEED; they read as zeros
+// after), so that they too come back as huge pages when next touched. The allocator hands out
+// memory the process touched before, since it keeps what is freed (basis/freed_memory.h).
+void AdviseHugePagesDiscardingContents(void* data, size_t bytes);
+
 // *v = n copies of value, in memory allocated afresh and advised before it is filled.
 template <typename T>
 void AssignInHugePages(std::vector<T>* v, size_t n, const T& value) {
   std::vector<T>().swap(*v);
   v->reserve(n);
-  AdviseHugePages(v->data(), n * sizeof(T));
+  AdviseHugePagesDiscardingContents(v->data(), n * sizeof(T));
   v->assign(n, value);
 }
 

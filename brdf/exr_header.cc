@@ -186,10 +186,23 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
                          "-byte file; the file is truncated or corrupt");
       }
     }
-    if (width * height * bytes_per_pixel > max_pixel_bytes) {
+    // OpenEXR reads a part a chunk at a time, and its line buffers and compressors are sized for
+    // a whole chunk whatever the image's height: a one-line image under ZIP gets 16 lines'
+    // buffers, a tiled one a whole tile's. So the pixel bytes a part may make OpenEXR allocate
+    // (and zero) count whole chunks: found by profiling fuzz/dbrdf_file_fuzz, a 552-byte file
+    // declaring one line 2^24 pixels wide under ZIP took 11 s and 2 GB to be refused by OpenEXR.
+    // In double: tile sizes are any uint32, whose products overflow 64 bits.
+    double buffered_pixels = static_cast<double>(width) * static_cast<double>(height);
+    if (tiled && tile_x > 0 && tile_y > 0) {
+      buffered_pixels = std::max(buffered_pixels, static_cast<double>(tile_x) * static_cast<double>(tile_y));
+    } else if (const int64_t lines = LinesPerChunk(compression); !tiled && lines > 0) {
+      buffered_pixels = static_cast<double>(width) * static_cast<double>((height + lines - 1) / lines * lines);
+    }
+    if (buffered_pixels * static_cast<double>(bytes_per_pixel) > static_cast<double>(max_pixel_bytes)) {
       throw InputError(what + ": an image part declares " + std::to_string(width) + " x " +
                        std::to_string(height) + " pixels of " + std::to_string(bytes_per_pixel) +
-                       " bytes, far more than a " + std::to_string(file_size) +
+                       " bytes (read " + (tiled ? "a tile" : "a block of lines") +
+                       " at a time), far more than a " + std::to_string(file_size) +
                        "-byte file can hold; the file is corrupt");
     }
   }

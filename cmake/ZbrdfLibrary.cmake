@@ -118,6 +118,10 @@ function(zbrdf_compile_as_test name)
   # it from the libraries they link and GCC would reject the header in those. Measured on a clean
   # build: 345 s of CPU for the tests with one header per binary, about 175 s with the shared one.
   target_compile_options(${name} PRIVATE -pthread)
+  # main(): GoogleTest's, after the process setup the zbrdf CLI does (tests/test_main.cc), in
+  # place of GTest::gtest_main.
+  target_sources(${name} PRIVATE "${PROJECT_SOURCE_DIR}/tests/test_main.cc")
+  target_include_directories(${name} PRIVATE "${PROJECT_SOURCE_DIR}")  # binaries linking no library
   zbrdf_share_common_headers(${name} tests <gtest/gtest.h> <filesystem>)
   # The header's Eigen and JSON includes need their include paths (header-only targets).
   target_link_libraries(${name} PRIVATE Eigen3::Eigen nlohmann_json::nlohmann_json)
@@ -140,7 +144,7 @@ function(zbrdf_test_folder name)
     return()
   endif()
   add_executable(${name} ${sources})
-  target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest GTest::gtest_main Threads::Threads)
+  target_link_libraries(${name} PRIVATE ${ARGN} GTest::gtest Threads::Threads)
   zbrdf_compile_as_test(${name})
   # Every test process shares the build tree's cache (direction maps, light transports, true
   # coefficients): a transport one test builds, the next one with the same rig, material and seed

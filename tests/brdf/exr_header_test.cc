@@ -50,19 +50,22 @@ std::string WriteSmallExr(const TempDir& dir, const std::string& name, Imf::Comp
   return path;
 }
 
-// Rewrites the data window's last row (the box2i's fourth int32) of the file at `path`.
-void SetLastRow(const std::string& path, int32_t max_y) {
+// Rewrites one int32 of the data window (the box2i's min x, min y, max x, max y: `index` 0-3)
+// of the file at `path`, which WriteSmallExr wrote.
+void SetDataWindow(const std::string& path, int index, int32_t value) {
   std::string bytes = testing::ReadFile(path);
   const std::string key("dataWindow\0box2i\0", 17);
   const size_t at = bytes.find(key);
   ASSERT_NE(at, std::string::npos);
-  const size_t value = at + key.size() + 4;  // past the int32 size
+  const size_t field = at + key.size() + 4 + 4 * static_cast<size_t>(index);  // past the size
   int32_t previous = 0;
-  std::memcpy(&previous, bytes.data() + value + 12, 4);
-  ASSERT_EQ(previous, kHeight - 1);
-  std::memcpy(bytes.data() + value + 12, &max_y, 4);
+  std::memcpy(&previous, bytes.data() + field, 4);
+  ASSERT_EQ(previous, index == 2 ? kWidth - 1 : index == 3 ? kHeight - 1 : 0);
+  std::memcpy(bytes.data() + field, &value, 4);
   testing::WriteFile(path, bytes);
 }
+void SetLastRow(const std::string& path, int32_t max_y) { SetDataWindow(path, 3, max_y); }
+void SetLastColumn(const std::string& path, int32_t max_x) { SetDataWindow(path, 2, max_x); }
 
 // The message of the InputError CheckExrHeaderSizes throws, or "" if it does not throw.
 std::string CheckMessage(const std::string& path) {
@@ -115,6 +118,31 @@ TEST(ExrHeader, AnOffsetTableLargerThanTheFileIsAnInputError) {
   const int64_t tile_rows = tiled_size / 8 / 2 + 1;  // 2 tiles per row of tiles (4 pixels wide)
   SetLastRow(tiled, static_cast<int32_t>(2 * tile_rows - 1));
   EXPECT_NE(CheckMessage(tiled).find("offset table"), std::string::npos);
+}
+
+// Found by profiling fuzz/dbrdf_file_fuzz: a 552-byte file declaring a single line 2^24 pixels
+// wide under ZIP passed the pixel-bytes bound (64 MB for a file this small), but OpenEXR sizes its
+// line buffers and its compressor's for a whole 16-line chunk, so it allocated and zeroed ~2 GB
+// (11 s under ASan) before refusing the file. The bound counts whole chunks.
+TEST(ExrHeader, PixelBytesAreCountedOverWholeChunks) {
+  const TempDir dir("exr-header-chunk-bytes");
+  // 2^22 x 3 one-float pixels: 48 MB, under the 64 MB bound. One line per chunk (ZIPS), that is
+  // what OpenEXR buffers; 16 lines per chunk (ZIP), it buffers 16 x 2^22 x 4 bytes = 256 MB.
+  constexpr int32_t kWide = (1 << 22) - 1;
+  const std::string zips = WriteSmallExr(dir, "zips.exr", Imf::ZIPS_COMPRESSION, false);
+  SetLastColumn(zips, kWide);
+  EXPECT_EQ(CheckMessage(zips), "");
+  const std::string zip = WriteSmallExr(dir, "zip.exr", Imf::ZIP_COMPRESSION, false);
+  SetLastColumn(zip, kWide);
+  const std::string message = CheckMessage(zip);
+  EXPECT_NE(message.find("test file " + zip), std::string::npos) << message;
+  EXPECT_NE(message.find("4194304 x 3 pixels of 4 bytes (read a block of lines at a time)"),
+            std::string::npos)
+      << message;
+  // Under the bound at ZIP too: 2^20 x 16 lines x 4 bytes = 64 MB exactly.
+  const std::string zip_at_bound = WriteSmallExr(dir, "zip-bound.exr", Imf::ZIP_COMPRESSION, false);
+  SetLastColumn(zip_at_bound, (1 << 20) - 1);
+  EXPECT_EQ(CheckMessage(zip_at_bound), "");
 }
 
 }  // namespace ZBRDF_TEST_FILE_ID

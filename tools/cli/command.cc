@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "basis/error.h"
+#include "basis/freed_memory.h"
 #include "basis/strings.h"
 
 namespace zbrdf::cli {
@@ -301,6 +302,7 @@ void PrintUsage() {
 }  // namespace
 
 int RunZbrdf(int argc, char** argv) {
+  KeepFreedMemoryForReuse();  // fewer page faults for the same work (basis/freed_memory.h)
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
       std::string(argv[1]) == "help") {
     PrintUsage();

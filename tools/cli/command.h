@@ -106,7 +106,8 @@ struct CommandRegistration {
 // `version`; a mistyped command gets the closest names), prints errors, and returns
 // the exit status: the command's own (0 done, 130 interrupted), 2 for bad input (flags, files,
 // sessions; also a full disk or a session another process writes), 3 for a device error, 4 for a
-// numerical failure, 1 otherwise.
+// numerical failure, 1 otherwise. First it sets the allocator to keep freed memory for reuse
+// (basis/freed_memory.h), as the test binaries' main() does.
 int RunZbrdf(int argc, char** argv);
 
 }  // namespace zbrdf::cli
