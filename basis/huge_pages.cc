@@ -8,10 +8,7 @@
 
 namespace zbrdf {
 
-namespace {
-
-// Advises the whole 2 MB pages inside [data, data + bytes), after giving them back if `discard`.
-void Advise(const void* data, size_t bytes, bool discard) {
+void AdviseHugePagesDiscardingContents(void* data, size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr uintptr_t kHuge = uintptr_t{2} << 20;
   const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
@@ -21,18 +18,11 @@ void Advise(const void* data, size_t bytes, bool discard) {
   // Failure (THP off, an old kernel) leaves ordinary pages: nothing to report. The range lies
   // inside the caller's block, so the allocator's own bookkeeping around it is never discarded.
   ::madvise(range, end - begin, MADV_HUGEPAGE);
-  if (discard) ::madvise(range, end - begin, MADV_DONTNEED);
+  ::madvise(range, end - begin, MADV_DONTNEED);
 #else
   (void)data;
   (void)bytes;
-  (void)discard;
 #endif
 }
-
-}  // namespace
-
-void AdviseHugePages(const void* data, size_t bytes) { Advise(data, bytes, false); }
-
-void AdviseHugePagesDiscardingContents(void* data, size_t bytes) { Advise(data, bytes, true); }
 
 }  // namespace zbrdf

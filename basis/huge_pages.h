@@ -10,14 +10,11 @@
 
 namespace zbrdf {
 
-// Asks for huge pages on the 2 MB-aligned pages inside [data, data + bytes) (madvise
-// MADV_HUGEPAGE on Linux; nothing elsewhere). Pages already touched keep their size.
-void AdviseHugePages(const void* data, size_t bytes);
-
-// AdviseHugePages for memory whose contents the caller is about to overwrite: pages already
-// touched inside the range are first given back (madvise MADV_DONTNEED; they read as zeros
-// after), so that they too come back as huge pages when next touched. The allocator hands out
-// memory the process touched before, since it keeps what is freed (basis/freed_memory.h).
+// Asks for huge pages on the 2 MB-aligned pages inside [data, data + bytes), whose contents the
+// caller is about to overwrite (madvise MADV_HUGEPAGE on Linux; nothing elsewhere). Pages already
+// touched there are first given back (MADV_DONTNEED; they read as zeros after), so that they too
+// come back as huge pages when next touched: the allocator hands out memory the process touched
+// before, since it keeps what is freed (basis/freed_memory.h).
 void AdviseHugePagesDiscardingContents(void* data, size_t bytes);
 
 // *v = n copies of value, in memory allocated afresh and advised before it is filled.

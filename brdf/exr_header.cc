@@ -164,18 +164,19 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
       }
       pos += static_cast<size_t>(size);
     }
+    // A part's chunks: a scanline part's blocks of `lines` lines (its compression's block: 1, 16,
+    // 32 or 256; 0 for a code OpenEXR does not know, which it reports itself), a tiled part's
+    // tiles of its full-resolution level (at least; none counted without a tile size).
+    const int64_t lines = tiled ? 0 : LinesPerChunk(compression);
+    const bool has_tiles = tiled && tile_x > 0 && tile_y > 0;
     // OpenEXR reads (and first allocates, and zeroes) a table of one 8-byte offset per chunk
-    // before any pixel: a scanline part has one chunk per block of lines (the compression's
-    // block: 1, 16, 32 or 256 lines), a tiled one at least one per tile of its full-resolution
-    // level. A table that cannot fit in the file means a damaged header, and reading it would
-    // cost up to 128 MB (2^24 single-line chunks) before OpenEXR found the file short.
+    // before any pixel. A table that cannot fit in the file means a damaged header, and reading
+    // it would cost up to 128 MB (2^24 single-line chunks) before OpenEXR found the file short.
     if (width > 0 && height > 0) {
       int64_t chunks = 0;
-      if (tiled) {
-        if (tile_x > 0 && tile_y > 0) {
-          chunks = ((width + tile_x - 1) / tile_x) * ((height + tile_y - 1) / tile_y);
-        }
-      } else if (const int64_t lines = LinesPerChunk(compression); lines > 0) {
+      if (has_tiles) {
+        chunks = ((width + tile_x - 1) / tile_x) * ((height + tile_y - 1) / tile_y);
+      } else if (lines > 0) {
         chunks = (height + lines - 1) / lines;
       }
       if (chunks > file_size / 8) {
@@ -192,13 +193,16 @@ void CheckExrHeaderSizes(const std::string& path, const std::string& what) {
     // (and zero) count whole chunks: found by profiling fuzz/dbrdf_file_fuzz, a 552-byte file
     // declaring one line 2^24 pixels wide under ZIP took 11 s and 2 GB to be refused by OpenEXR.
     // In double: tile sizes are any uint32, whose products overflow 64 bits.
-    double buffered_pixels = static_cast<double>(width) * static_cast<double>(height);
-    if (tiled && tile_x > 0 && tile_y > 0) {
-      buffered_pixels = std::max(buffered_pixels, static_cast<double>(tile_x) * static_cast<double>(tile_y));
-    } else if (const int64_t lines = LinesPerChunk(compression); !tiled && lines > 0) {
-      buffered_pixels = static_cast<double>(width) * static_cast<double>((height + lines - 1) / lines * lines);
+    const double w = static_cast<double>(width);
+    double buffered_pixels = w * static_cast<double>(height);
+    if (has_tiles) {
+      buffered_pixels =
+          std::max(buffered_pixels, static_cast<double>(tile_x) * static_cast<double>(tile_y));
+    } else if (lines > 0) {
+      buffered_pixels = w * static_cast<double>((height + lines - 1) / lines * lines);
     }
-    if (buffered_pixels * static_cast<double>(bytes_per_pixel) > static_cast<double>(max_pixel_bytes)) {
+    if (buffered_pixels * static_cast<double>(bytes_per_pixel) >
+        static_cast<double>(max_pixel_bytes)) {
       throw InputError(what + ": an image part declares " + std::to_string(width) + " x " +
                        std::to_string(height) + " pixels of " + std::to_string(bytes_per_pixel) +
                        " bytes (read " + (tiled ? "a tile" : "a block of lines") +

@@ -84,14 +84,12 @@ declare -A cpu_of_job  # a running target's process id -> the CPU it is pinned t
 # A usable CPU that no running target is pinned to (empty where targets are not pinned).
 free_cpu() {
   ((pin_targets)) || return 0
-  local running=" $(jobs -rp | tr '\n' ' ') " pid cpu taken
+  local running=" $(jobs -rp | tr '\n' ' ') " taken=" " pid cpu
   for pid in "${!cpu_of_job[@]}"; do
-    [[ $running == *" $pid "* ]] || unset "cpu_of_job[$pid]"
+    if [[ $running == *" $pid "* ]]; then taken+="${cpu_of_job[$pid]} "; fi
   done
   for cpu in "${usable_cpus[@]}"; do
-    taken=0
-    for pid in "${!cpu_of_job[@]}"; do [[ ${cpu_of_job[$pid]} == "$cpu" ]] && taken=1; done
-    if ((!taken)); then
+    if [[ $taken != *" $cpu "* ]]; then
       echo "$cpu"
       return 0
     fi

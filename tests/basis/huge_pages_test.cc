@@ -54,7 +54,7 @@ TEST(HugePagesTest, AssignGivesTheValuesWhateverThePages) {
       EXPECT_EQ(v.back(), 0.5f);
     }
   }
-  AdviseHugePages(nullptr, 0);  // nothing to advise: no effect
+  AdviseHugePagesDiscardingContents(nullptr, 0);  // nothing to advise: no effect
 }
 
 TEST(HugePagesTest, AnAdvisedArrayGetsHugePagesWhereTheKernelGivesThem) {
@@ -72,9 +72,9 @@ TEST(HugePagesTest, AnAdvisedArrayGetsHugePagesWhereTheKernelGivesThem) {
 
 // The allocator keeps freed memory (basis/freed_memory.h; the test binaries' main() sets it, as
 // zbrdf's does), so an array may be given pages an earlier one touched, which are 4 kB pages
-// whatever is advised after: AssignInHugePages gives them back first. Measured before that: the
-// transport's direction grid, allocated after the maps' temporaries were freed, sometimes
-// got none, and a full-resolution simulation took 35 s instead of 26 s.
+// whatever is advised after: AssignInHugePages gives them back first. Before it did, one of two
+// full-resolution simulations with the allocator's setting took 35 s instead of 26 s (the
+// direction grid's random lookups are what huge pages speed up).
 TEST(HugePagesTest, AnArrayInMemoryTouchedBeforeStillGetsHugePages) {
   const std::string mode = ThpMode();
   if (mode != "madvise" && mode != "always") GTEST_SKIP() << "THP is '" << mode << "' here";
