@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "acquisition/frame_file.h"
+#include "acquisition/frame_writer.h"
 #include "acquisition/json_integer.h"
 #include "basis/atomic_file.h"
 #include "basis/error.h"
@@ -674,6 +675,9 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
     window.erase(lobe);
     return pattern;
   };
+  // Frames are written and journaled on the writer's thread while the next ones are grabbed
+  // (acquisition/frame_writer.h); `done` gets their entries once the writer has drained.
+  FrameWriter writer(session);
   for (int lobe = 0; lobe < lobe_count; ++lobe) {
     if (options.skip_lobe && options.skip_lobe(lobe)) {
       progress_done += per_lobe;
@@ -699,6 +703,7 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
         if (options.interrupt && options.interrupt->load()) {
           result.interrupted = true;
           result.device_time_s = (clock.NowUs() - start_us) * 1e-6;
+          writer.Drain();  // every frame taken is on disk and journaled
           return result;
         }
         const PlannedFrame pf = plan.Frame(index);
@@ -718,13 +723,12 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
         camera.SetExposure(requested);
         camera.SetNextFrameIndex(static_cast<uint64_t>(index));
         Frame frame = camera.Grab(options.grab_timeout);
-        JournalEntry entry = session.WriteFrame(index, frame);
-        entry.lobe = plan.lobes[lobe].Name();
-        entry.exposure = pf.exposure;
-        entry.repeat = pf.repeat;
-        entry.exposure_us_requested = requested;
-        session.AppendJournal(entry);
-        done[index] = entry;
+        JournalEntry plan_fields;
+        plan_fields.lobe = plan.lobes[lobe].Name();
+        plan_fields.exposure = pf.exposure;
+        plan_fields.repeat = pf.repeat;
+        plan_fields.exposure_us_requested = requested;
+        writer.Add(index, frame, plan_fields);  // a copy: the lobe's processing keeps this one
         frames[index - lobe * per_lobe] = std::move(frame);
         ++result.frames_captured;
         Report(options.progress, {"capture", ++progress_done, total, "frames"});
@@ -744,8 +748,9 @@ CaptureResult RunCapture(SessionFolder& session, const CapturePlan& plan,
       break;
     }
   }
-  result.frames_recaptured = std::min(journaled_but_broken, result.frames_captured);
   result.device_time_s = (clock.NowUs() - start_us) * 1e-6;
+  for (JournalEntry& e : writer.Drain()) done[e.index] = std::move(e);
+  result.frames_recaptured = std::min(journaled_but_broken, result.frames_captured);
   // What is on disk must say what this run believes: every frame taken or kept has its line.
   std::map<int, std::string> on_disk;
   for (const JournalEntry& e : session.ReadJournal()) on_disk[e.index] = e.checksum;

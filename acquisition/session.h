@@ -228,9 +228,10 @@ struct CaptureOptions {
   double settle_us = 0;                    // after each new pattern
   ProgressCallback progress;
   const std::atomic<bool>* interrupt = nullptr;  // set by a signal handler: stop after a frame
-  // Called when every frame of a lobe is on disk (in plan order), with its frames, so that
-  // processing runs while the capture goes on. Frames of lobes completed in an earlier run of
-  // the session are read back from disk and passed too.
+  // Called when every frame of a lobe is taken (in plan order), with its frames, so that
+  // processing runs while the capture goes on; the last of them may still be being written
+  // (acquisition/frame_writer.h: RunCapture returns only once every frame is on disk). Frames of
+  // lobes completed in an earlier run of the session are read back from disk and passed too.
   std::function<void(int lobe, const std::vector<Frame>& frames)> on_lobe_complete;
   // Adaptive capture (acquisition/adaptive.h); both unset for a fixed plan.
   // If set, the exposure to request for frame `exposure` (> 0) of the bracket of lobe `lobe`,
@@ -268,7 +269,9 @@ struct CaptureResult {
 };
 
 // Runs (or resumes) the plan: for each lobe, shows its pattern, waits the settle time, and for
-// each repeat and exposure grabs a frame, writes it and journals it. Frames already journaled,
+// each repeat and exposure grabs a frame, writes it and journals it (on a thread of its own, in
+// order, while the next frame is grabbed: acquisition/frame_writer.h; an interruption or a
+// device error returns or throws only once the frames taken are written). Frames already journaled,
 // of this session and plan (JournalEntryMismatch), of the camera's size and layout, and intact
 // are kept. At the end the journal on disk is read back: every frame of the plan must be in it.
 // Throws DeviceError if a device fails (the journal keeps what was done), FileWriteError if a

@@ -26,4 +26,15 @@ void AssignInHugePages(std::vector<T>* v, size_t n, const T& value) {
   v->assign(n, value);
 }
 
+// *v = n default-constructed elements in memory allocated afresh and advised. For a type whose
+// default constructor writes nothing (simulate/transport_row.h's TransportEntry) no page is
+// touched here: the caller's writes touch them first, on as many threads as fill them.
+template <typename T>
+void ResizeInHugePages(std::vector<T>* v, size_t n) {
+  std::vector<T>().swap(*v);
+  v->reserve(n);
+  AdviseHugePagesDiscardingContents(v->data(), n * sizeof(T));
+  v->resize(n);
+}
+
 }  // namespace zbrdf

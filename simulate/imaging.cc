@@ -384,7 +384,8 @@ bool ForwardModel::LoadCached(const std::string& path, const std::string& key) {
   std::vector<int64_t> row_begin(pixels + 1);
   std::vector<uint32_t> first_index(pixels);
   std::vector<float> weight_scale(pixels), control(pixels * kFootprintMoments);
-  std::vector<TransportEntry> packed(entries);
+  std::vector<TransportEntry> packed;
+  ResizeInHugePages(&packed, entries);  // unset until read (TransportEntry), in huge pages
   auto read = [&](auto& v) {
     return static_cast<bool>(in.read(reinterpret_cast<char*>(v.data()), v.size() * sizeof(v[0])));
   };
@@ -530,6 +531,14 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<std::pair<Vec3, int64_t>> traced;  // a delta material's last trace per path
     for (int64_t y = y0; y < y1; ++y) {
       std::vector<TransportEntry>& row = rows[y];
+      // Room for every pixel's samples (its merged entries are fewer, but for the rare gap step)
+      // up front: grown by doubling, the rows were copied and their new pages touched again and
+      // again. Untouched capacity costs no memory.
+      if (y % options_.row_stride == 0) {
+        size_t lit = 0;
+        for (int x = 0; x < width; ++x) lit += maps_.camera.Valid(static_cast<int>(y) * width + x);
+        row.reserve(lit * static_cast<size_t>(n));
+      }
       for (int x = 0; x < width; ++x) {
         const int pixel = static_cast<int>(y) * width + x;
         if (!maps_.camera.Valid(pixel) || y % options_.row_stride != 0) continue;
@@ -742,15 +751,21 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::lock_guard<std::mutex> lock(counts_mutex);
     sample_counts_ += counts;
   });
-  // Flatten rows into CSR, in pixel order (deterministic regardless of threading).
+  // Flatten rows into CSR, in pixel order (deterministic regardless of threading). The 368 MB
+  // of a full-resolution transport were copied on one thread into memory touched for the first
+  // time, 4 kB page by page: 2 s of a cold simulation with the other core idle. Now in huge
+  // pages, left unset until the rows are copied in by both threads (TransportEntry), so that
+  // the kernel's zeroing of the new pages is shared too.
   row_begin_.assign(pixels + 1, 0);
-  size_t total = 0;
-  for (const auto& row : rows) total += row.size();
-  packed_.reserve(total);
-  for (auto& row : rows) {
-    packed_.insert(packed_.end(), row.begin(), row.end());
-    std::vector<TransportEntry>().swap(row);
-  }
+  std::vector<size_t> row_offset(height + 1, 0);
+  for (int y = 0; y < height; ++y) row_offset[y + 1] = row_offset[y] + rows[y].size();
+  ResizeInHugePages(&packed_, row_offset[height]);
+  ParallelFor(height, 16, [&](int64_t y0, int64_t y1) {
+    for (int64_t y = y0; y < y1; ++y) {
+      std::copy(rows[y].begin(), rows[y].end(), packed_.begin() + row_offset[y]);
+      std::vector<TransportEntry>().swap(rows[y]);
+    }
+  });
   int64_t offset = 0;
   for (size_t p = 0; p < pixels; ++p) {
     row_begin_[p] = offset;

@@ -12,6 +12,11 @@ namespace zbrdf {
 // A transport entry: its projector pixel as a step from the previous entry's (the first entry's
 // from the row's first index), and its weight in units of the row's scale.
 struct TransportEntry {
+  // Left unset: a transport's hundreds of MB are allocated and then written whole (the build's
+  // rows copied in by both threads, a cache file read in), and zeroing them first had cost a
+  // pass over memory on one thread, most of it the kernel's first touch of every page.
+  TransportEntry() {}  // NOLINT(modernize-use-equals-default): "= default" would zero them
+  TransportEntry(uint16_t step_in, int16_t weight_in) : step(step_in), weight(weight_in) {}
   uint16_t step;
   int16_t weight;
 };
