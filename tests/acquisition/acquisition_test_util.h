@@ -29,6 +29,18 @@ inline std::string FreshTempDir(const std::string& prefix, const std::string& na
   return dir;
 }
 
+// A 16 x 8 RGGB frame of 12-bit samples base, base + 1, ...: for the session folder's writers.
+inline Frame SmallFrame(uint16_t base) {
+  Frame f;
+  f.width = 16;
+  f.height = 8;
+  f.layout = PixelLayout::kBayerRGGB;
+  f.bit_depth = 12;
+  f.exposure_us = 500;
+  for (int i = 0; i < 16 * 8; ++i) f.data.push_back(static_cast<uint16_t>(base + i));
+  return f;
+}
+
 struct SimulatedRig {
   Rig rig = ApplyPreset(LoadRig(SourceRig("thesis.yaml")), Preset::kFast);
   std::unique_ptr<VirtualRig> virtual_rig;

@@ -16,16 +16,7 @@ namespace ZBRDF_TEST_FILE_ID {
 
 namespace fs = std::filesystem;
 
-Frame SmallFrame(uint16_t base) {
-  Frame f;
-  f.width = 16;
-  f.height = 8;
-  f.layout = PixelLayout::kBayerRGGB;
-  f.bit_depth = 12;
-  f.exposure_us = 500;
-  for (int i = 0; i < 16 * 8; ++i) f.data.push_back(static_cast<uint16_t>(base + 7 * i));
-  return f;
-}
+using testing::SmallFrame;
 
 JournalEntry PlanFields(int index) {
   JournalEntry e;

@@ -22,16 +22,7 @@ namespace fs = std::filesystem;
 
 std::string TempDir(const std::string& name) { return testing::FreshTempDir("session-test", name); }
 
-Frame SmallFrame(uint16_t base) {
-  Frame f;
-  f.width = 16;
-  f.height = 8;
-  f.layout = PixelLayout::kBayerRGGB;
-  f.bit_depth = 12;
-  f.exposure_us = 500;
-  for (int i = 0; i < 16 * 8; ++i) f.data.push_back(static_cast<uint16_t>(base + i));
-  return f;
-}
+using testing::SmallFrame;
 
 std::string Slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
