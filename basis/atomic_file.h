@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "basis/error.h"
@@ -70,6 +71,18 @@ void TruncateFile(const std::string& path, uint64_t length);
 // another writer holds the entry, the folder cannot be created or the disk is full: callers go on
 // without the cache.
 bool WriteCacheFile(const std::string& path, const std::vector<std::string_view>& parts);
+
+// The bytes of n objects at data, or of a vector's elements, as they lie in memory: a part of a
+// cache entry (WriteCacheFile) written without copying.
+template <typename T>
+std::string_view ObjectBytes(const T* data, size_t n = 1) {
+  static_assert(std::is_trivially_copyable_v<T>, "only objects whose bytes are their value");
+  return {reinterpret_cast<const char*>(data), n * sizeof(T)};
+}
+template <typename T>
+std::string_view ObjectBytes(const std::vector<T>& v) {
+  return ObjectBytes(v.data(), v.size());
+}
 
 // The temporary name WriteFileAtomically uses for path in this process.
 std::string TemporaryFileName(const std::string& path);

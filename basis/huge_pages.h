@@ -17,12 +17,18 @@ namespace zbrdf {
 // before, since it keeps what is freed (basis/freed_memory.h).
 void AdviseHugePagesDiscardingContents(void* data, size_t bytes);
 
-// *v = n copies of value, in memory allocated afresh and advised before it is filled.
+// *v emptied, with room for n elements in memory allocated afresh and advised, not yet touched.
 template <typename T>
-void AssignInHugePages(std::vector<T>* v, size_t n, const T& value) {
+void ReserveInHugePages(std::vector<T>* v, size_t n) {
   std::vector<T>().swap(*v);
   v->reserve(n);
   AdviseHugePagesDiscardingContents(v->data(), n * sizeof(T));
+}
+
+// *v = n copies of value, in memory allocated afresh and advised before it is filled.
+template <typename T>
+void AssignInHugePages(std::vector<T>* v, size_t n, const T& value) {
+  ReserveInHugePages(v, n);
   v->assign(n, value);
 }
 
@@ -31,9 +37,7 @@ void AssignInHugePages(std::vector<T>* v, size_t n, const T& value) {
 // touched here: the caller's writes touch them first, on as many threads as fill them.
 template <typename T>
 void ResizeInHugePages(std::vector<T>* v, size_t n) {
-  std::vector<T>().swap(*v);
-  v->reserve(n);
-  AdviseHugePagesDiscardingContents(v->data(), n * sizeof(T));
+  ReserveInHugePages(v, n);
   v->resize(n);
 }
 

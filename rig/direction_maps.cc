@@ -335,12 +335,6 @@ std::vector<float> FootprintMoments(const OpticalSystem& optics, const Direction
   return moments;
 }
 
-// n objects at data, as the bytes a cache file holds of them.
-template <typename T>
-std::string_view Bytes(const T* data, size_t n) {
-  return std::string_view(reinterpret_cast<const char*>(data), n * sizeof(T));
-}
-
 template <typename T>
 bool ReadVector(std::ifstream& in, std::vector<T>* v, uint64_t max_elements) {
   uint64_t n = 0;
@@ -444,21 +438,21 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
   const int32_t camera_dims[2] = {maps.camera.width, maps.camera.height};
   const int32_t projector_dims[2] = {maps.projector.width, maps.projector.height};
   std::deque<uint64_t> sizes;  // each vector's element count, as ReadVector reads it (stable)
-  std::vector<std::string_view> parts = {std::string_view("ZBRDFMAP", 8), Bytes(&hash, 1)};
+  std::vector<std::string_view> parts = {std::string_view("ZBRDFMAP", 8), ObjectBytes(&hash)};
   auto vector = [&](const auto& v) {
     sizes.push_back(v.size());
-    parts.push_back(Bytes(&sizes.back(), 1));
-    parts.push_back(Bytes(v.data(), v.size()));
+    parts.push_back(ObjectBytes(&sizes.back()));
+    parts.push_back(ObjectBytes(v));
   };
   for (const auto& [m, dims] : {std::pair{&maps.camera, camera_dims},
                                 std::pair{&maps.projector, projector_dims}}) {
-    parts.push_back(Bytes(dims, 2));
+    parts.push_back(ObjectBytes(dims, 2));
     vector(m->direction);
     vector(m->throughput);
     vector(m->solid_angle_sr);
   }
-  parts.push_back(Bytes(&maps.grid.step_rad, 1));
-  parts.push_back(Bytes(grid_dims, 2));
+  parts.push_back(ObjectBytes(&maps.grid.step_rad));
+  parts.push_back(ObjectBytes(grid_dims, 2));
   vector(maps.grid.xy);
   vector(maps.projector_moments);
   WriteCacheFile(path.string(), parts);

@@ -316,11 +316,6 @@ constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // the nearer probe's (brdf/proxy_sampler.h).
 constexpr uint32_t kTransportVersion = 7;
 
-template <typename T>
-std::string_view Bytes(const std::vector<T>& v) {
-  return {reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)};
-}
-
 // Removes the least recently used transport entries until the folder holds at most max_bytes.
 void TrimTransportCache(const std::filesystem::path& folder, uint64_t max_bytes) {
   namespace fs = std::filesystem;
@@ -425,13 +420,11 @@ void ForwardModel::SaveCached(const std::string& path, const std::string& key) c
   const uint64_t bytes = 8 + 4 + 4 + key.size() + 16 + row_begin_.size() * 8 + pixels * 8 +
                          entries * sizeof(TransportEntry) + control_.size() * 4 + 8;
   if (bytes > options_.cache_max_bytes) return;
-  auto raw = [](const auto& value) {
-    return std::string_view(reinterpret_cast<const char*>(&value), sizeof(value));
-  };
   const bool written = WriteCacheFile(
-      path, {std::string_view(kTransportMagic, 8), raw(version), raw(key_size), key, raw(pixels),
-             raw(entries), Bytes(row_begin_), Bytes(first_index_), Bytes(weight_scale_),
-             Bytes(packed_), Bytes(control_), std::string_view(kTransportEnd, 8)});
+      path, {std::string_view(kTransportMagic, 8), ObjectBytes(&version), ObjectBytes(&key_size),
+             key, ObjectBytes(&pixels), ObjectBytes(&entries), ObjectBytes(row_begin_),
+             ObjectBytes(first_index_), ObjectBytes(weight_scale_), ObjectBytes(packed_),
+             ObjectBytes(control_), std::string_view(kTransportEnd, 8)});
   if (written) TrimTransportCache(std::filesystem::path(path).parent_path(), options_.cache_max_bytes);
 }
 
