@@ -17,6 +17,11 @@ namespace zbrdf {
 // before, since it keeps what is freed (basis/freed_memory.h).
 void AdviseHugePagesDiscardingContents(void* data, size_t bytes);
 
+// Gives back to the system the whole pages inside [data, data + bytes), whose contents the
+// caller no longer needs (MADV_DONTNEED on Linux: they read as zeros if touched again; nothing
+// elsewhere).
+void DiscardPages(void* data, size_t bytes);
+
 // *v emptied, with room for n elements in memory allocated afresh and advised, not yet touched.
 template <typename T>
 void ReserveInHugePages(std::vector<T>* v, size_t n) {
@@ -39,6 +44,14 @@ template <typename T>
 void ResizeInHugePages(std::vector<T>* v, size_t n) {
   ReserveInHugePages(v, n);
   v->resize(n);
+}
+
+// *v cut to its first n elements in place (n <= size), and the memory of its capacity past them
+// given back (DiscardPages): for an array reserved for the most it could hold, filled with less.
+template <typename T>
+void ShrinkInPlace(std::vector<T>* v, size_t n) {
+  v->resize(n);
+  DiscardPages(v->data() + n, (v->capacity() - n) * sizeof(T));
 }
 
 }  // namespace zbrdf

@@ -4,9 +4,9 @@
 // across its area and lens aperture that land on the sample), the solid angle its footprint
 // covers in direction space, and its throughput (the fraction of those rays that land).
 // Projector map: the same for projector pixels, except that the direction is the chief ray's:
-// the direction the pixel lights the sample center from. Direction grid: the inverse of the projector map,
-// found by tracing from the sample center outward, for "which projector pixel lights the
-// sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
+// the direction the pixel lights the sample center from. Direction grid: the inverse of the
+// projector map, found by tracing from the sample center outward, for "which projector pixel lights
+// the sample from w". Maps are cached on disk, keyed by a hash of the rig (RigHash).
 //
 // These are the nominal maps of a rig description; calibration (calibration/) estimates the
 // maps of a real, misaligned rig with the same types.
@@ -46,6 +46,9 @@ struct ProjectorDirectionGrid {
   // nodes are two cache lines (the transport build does one per sample, at random directions).
   std::vector<float> xy;
 
+  // 1 / step_rad, multiplied by instead of divided by in the per-sample lookups.
+  double NodesPerRad() const { return n_phi * (0.5 / M_PI); }
+
   bool Covered(size_t node) const { return !std::isnan(xy[2 * node]); }
 
   // Bilinear interpolation of the coordinates between the four surrounding nodes; false if
@@ -74,7 +77,8 @@ struct ProjectorDirectionGrid {
 
 inline bool ProjectorDirectionGrid::CellAt(double theta, double phi, Cell* cell) const {
   if (n_theta == 0) return false;
-  const double fi = theta / step_rad, fj = phi / step_rad;
+  const double nodes_per_rad = NodesPerRad();  // step_rad = 2 pi / n_phi
+  const double fi = theta * nodes_per_rad, fj = phi * nodes_per_rad;
   const int i = static_cast<int>(fi), j = static_cast<int>(fj);
   if (i + 1 >= n_theta) return false;
   cell->a = fi - i;

@@ -1,10 +1,8 @@
 #include "simulate/imaging.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
-#include <span>
-
-#include <Eigen/Dense>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +16,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "basis/atomic_file.h"
@@ -72,7 +71,12 @@ void ScrambledHammersley(int n, uint64_t& state, PointSet2* out) {
   for (int i = 0; i < n; ++i) order[i] = i;
   for (int i = n - 1; i > 0; --i) {
     state = HashMix(state);
-    std::swap(order[i], order[static_cast<int>(state % static_cast<uint64_t>(i + 1))]);
+    // A uniform index in [0, i] by the high half of a 64 x 64-bit product (Lemire 2019, "Fast
+    // random integer generation in an interval"; bias below 2^-50 here) rather than state %
+    // (i + 1): a 64-bit division per point had been a third of this function's time.
+    const auto pick = static_cast<int>(
+        (static_cast<unsigned __int128>(state) * static_cast<uint64_t>(i + 1)) >> 64);
+    std::swap(order[i], order[pick]);
   }
   for (int k = 0; k < n; ++k) {
     const int i = order[k];
@@ -132,11 +136,12 @@ void SortByProjectorPixel(std::vector<Entry>* entries, std::vector<Entry>* scrat
 class Coverage {
  public:
   Coverage(const ProjectorDirectionGrid& grid, const std::function<bool(const Vec3&)>& covered)
-      : step_(grid.step_rad), n_phi_(grid.n_phi) {
+      : step_(grid.step_rad), columns_per_rad_(grid.NodesPerRad()), n_phi_(grid.n_phi) {
     lo_.assign(n_phi_, 0.0);
     hi_.assign(n_phi_, 0.0);
     sin2_lo_.assign(n_phi_, 0.0);
     sin2_span_.assign(n_phi_, 0.0);
+    sin2_hi_.assign(n_phi_, 0.0);
     std::vector<double> column_weights(n_phi_, 0.0);
     double total = 0;
     for (int j = 0; j < n_phi_; ++j) {
@@ -170,7 +175,8 @@ class Coverage {
       }
       // Projected solid angle of the column: integral cos(theta) dw = (sin^2 hi - sin^2 lo) / 2.
       sin2_lo_[j] = Sin2(lo_[j]);
-      sin2_span_[j] = Sin2(hi_[j]) - sin2_lo_[j];
+      sin2_hi_[j] = Sin2(hi_[j]);
+      sin2_span_[j] = sin2_hi_[j] - sin2_lo_[j];
       column_weights[j] = 0.5 * sin2_span_[j] * step_;
       total += column_weights[j];
     }
@@ -198,13 +204,15 @@ class Coverage {
 
   double Pdf(const Vec3& w) const {
     if (w.z <= 0) return 0;
-    return PdfAngles(w, SphericalTheta(w), SphericalPhi(w));
+    return PdfAzimuth(w, SphericalPhi(w));
   }
-  // The same given w's SphericalTheta and SphericalPhi.
-  double PdfAngles(const Vec3& w, double theta, double phi) const {
+  // The same given w's SphericalPhi. The polar angle's test is on sin^2 theta = x^2 + y^2
+  // (increasing in theta above the horizon): no acos per sample.
+  double PdfAzimuth(const Vec3& w, double phi) const {
     if (w.z <= 0) return 0;
-    const int j = std::min(static_cast<int>(phi / step_), n_phi_ - 1);
-    return theta >= lo_[j] && theta <= hi_[j] ? w.z * inverse_projected_solid_angle_ : 0.0;
+    const int j = std::min(static_cast<int>(phi * columns_per_rad_), n_phi_ - 1);
+    const double sin2 = w.x * w.x + w.y * w.y;
+    return sin2 >= sin2_lo_[j] && sin2 <= sin2_hi_[j] ? w.z * inverse_projected_solid_angle_ : 0.0;
   }
 
   double theta_min() const { return theta_min_; }
@@ -212,11 +220,11 @@ class Coverage {
 
  private:
   static double Sin2(double theta) { return std::sin(theta) * std::sin(theta); }
-  double step_;
+  double step_, columns_per_rad_;
   int n_phi_;
   std::vector<double> lo_, hi_;
-  // Per column sin^2(lo) and sin^2(hi) - sin^2(lo), once, instead of their sines per sample.
-  std::vector<double> sin2_lo_, sin2_span_;
+  // Per column sin^2(lo), sin^2(hi) and their difference, once, instead of sines per sample.
+  std::vector<double> sin2_lo_, sin2_hi_, sin2_span_;
   std::optional<Distribution1D> columns_;  // weights: the columns' projected solid angles
   double inverse_projected_solid_angle_ = 0;
   double theta_min_ = M_PI, theta_max_ = 0;
@@ -342,7 +350,8 @@ void TrimTransportCache(const std::filesystem::path& folder, uint64_t max_bytes)
 
 std::string ForwardModel::CacheKey(const Brdf& material) const {
   char text[160];
-  std::snprintf(text, sizeof(text), "zbrdf transport v%u rig %016llx seed %llu row_stride %d material ",
+  std::snprintf(text, sizeof(text),
+                "zbrdf transport v%u rig %016llx seed %llu row_stride %d material ",
                 kTransportVersion, static_cast<unsigned long long>(RigHash(optics_.rig())),
                 static_cast<unsigned long long>(options_.seed), options_.row_stride);
   return text + MaterialCacheKey(material);
@@ -425,7 +434,8 @@ void ForwardModel::SaveCached(const std::string& path, const std::string& key) c
              key, ObjectBytes(&pixels), ObjectBytes(&entries), ObjectBytes(row_begin_),
              ObjectBytes(first_index_), ObjectBytes(weight_scale_), ObjectBytes(packed_),
              ObjectBytes(control_), std::string_view(kTransportEnd, 8)});
-  if (written) TrimTransportCache(std::filesystem::path(path).parent_path(), options_.cache_max_bytes);
+  if (written)
+    TrimTransportCache(std::filesystem::path(path).parent_path(), options_.cache_max_bytes);
 }
 
 double ForwardModel::ProjectorPathTransmission() const {
@@ -462,7 +472,8 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     return static_cast<int64_t>(py) * proj_w + static_cast<int64_t>(px);
   };
   // projector_pixel({0, 0, 0}, w_i, false) for w_i above the horizon with known angles.
-  auto projector_pixel_at_center = [&](const Vec3& w_i, std::pair<double, double> angles) -> int64_t {
+  auto projector_pixel_at_center = [&](const Vec3& w_i,
+                                       std::pair<double, double> angles) -> int64_t {
     double px, py;
     if (!maps_.grid.LookupAngles(angles.first, angles.second, &px, &py)) {
       return projector_pixel({0, 0, 0}, w_i, true);
@@ -497,8 +508,23 @@ void ForwardModel::BuildTransport(const Brdf& material) {
 
   static_assert(sizeof(TransportEntry) == 4,
                 "the cache file's layout and the products' bandwidth assume 4 bytes");
-  std::vector<std::vector<TransportEntry>> rows(height);
   const size_t pixels = static_cast<size_t>(width) * height;
+  // Each camera row is packed straight into the whole transport, at room for the most its lit
+  // pixels can hold (PackedRowMaxEntries: a pixel has at most n samples' entries), then the rows
+  // are moved down into place. The room is in huge pages and untouched until written: a row's
+  // own vector, copied into the transport after, had touched every entry's memory twice, the
+  // first time 4 kB page by page (the kernel's page faults were ~6% of the build).
+  const uint32_t projector_pixels = static_cast<uint32_t>(proj_w) * static_cast<uint32_t>(proj_h);
+  const size_t pixel_room = PackedRowMaxEntries(static_cast<size_t>(n), projector_pixels);
+  std::vector<size_t> row_room_begin(height + 1, 0), row_used(height, 0);
+  for (int y = 0; y < height; ++y) {
+    size_t lit = 0;
+    if (y % options_.row_stride == 0) {
+      for (int x = 0; x < width; ++x) lit += maps_.camera.Valid(y * width + x);
+    }
+    row_room_begin[y + 1] = row_room_begin[y] + lit * pixel_room;
+  }
+  ResizeInHugePages(&packed_, row_room_begin[height]);
   first_index_.assign(pixels, 0);
   weight_scale_.assign(pixels, 0.0f);
   std::vector<int64_t> count(pixels, 0);  // entries per camera pixel (each written by one thread)
@@ -523,24 +549,20 @@ void ForwardModel::BuildTransport(const Brdf& material) {
     std::vector<std::pair<double, int>> probe_values(kProbes);
     std::vector<std::pair<Vec3, int64_t>> traced;  // a delta material's last trace per path
     for (int64_t y = y0; y < y1; ++y) {
-      std::vector<TransportEntry>& row = rows[y];
-      // Room for every pixel's samples (its merged entries are fewer, but for the rare gap step)
-      // up front: grown by doubling, the rows were copied and their new pages touched again and
-      // again. Untouched capacity costs no memory.
-      if (y % options_.row_stride == 0) {
-        size_t lit = 0;
-        for (int x = 0; x < width; ++x) lit += maps_.camera.Valid(static_cast<int>(y) * width + x);
-        row.reserve(lit * static_cast<size_t>(n));
-      }
+      TransportEntry* const row = packed_.data() + row_room_begin[y];
+      size_t& used = row_used[y];
       for (int x = 0; x < width; ++x) {
         const int pixel = static_cast<int>(y) * width + x;
         if (!maps_.camera.Valid(pixel) || y % options_.row_stride != 0) continue;
         const int channel = BayerChannel(rig.sensor.layout, x, static_cast<int>(y));
-        uint64_t state = HashMix(options_.seed ^ HashMix(static_cast<uint64_t>(pixel) + 0x51ed2701ull));
-        const double glossy = delta ? 1.0 : material.GlossyProbability(maps_.camera.Direction(pixel));
+        uint64_t state =
+            HashMix(options_.seed ^ HashMix(static_cast<uint64_t>(pixel) + 0x51ed2701ull));
+        const double glossy =
+            delta ? 1.0 : material.GlossyProbability(maps_.camera.Direction(pixel));
         const int n_lobe = delta ? n
-                           : glossy > 0 ? static_cast<int>(std::lround(n * std::clamp(glossy, 0.25, 0.75)))
-                                        : 0;
+                           : glossy > 0
+                               ? static_cast<int>(std::lround(n * std::clamp(glossy, 0.25, 0.75)))
+                               : 0;
         const int n_zone = n - n_lobe;
         ScrambledHammersley(n_aperture, state, &jitter);
         ScrambledHammersley(n_aperture, state, &aperture);
@@ -558,8 +580,8 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             ScrambledHammersley(n_aperture, state, &aperture);
           }
           for (int a = 0; a < n_aperture; ++a) {
-            const auto path = optics_.TraceToSample(camera.GenerateRay(
-                x + jitter.u[a], y + jitter.v[a], aperture.u[a], aperture.v[a]));
+            const auto path = optics_.TraceToSample(
+                camera.GenerateRay(x + jitter.u[a], y + jitter.v[a], aperture.u[a], aperture.v[a]));
             if (path.status == OpticalSystem::PathStatus::kLanded) paths[landed++] = path;
           }
         }
@@ -624,7 +646,10 @@ void ForwardModel::BuildTransport(const Brdf& material) {
               const double v = f_channel[i];
               probe_values[i] = {std::isfinite(v) ? v : 0.0, i};
             }
-            std::sort(probe_values.begin(), probe_values.end());
+            // The dimmest three quarters (ordered by value, then probe: the same set as a whole
+            // sort's first 48), summed in the order nth_element leaves them.
+            std::nth_element(probe_values.begin(), probe_values.begin() + kProbes * 3 / 4,
+                             probe_values.end());
             Eigen::Matrix<double, kFootprintMoments, kFootprintMoments> normal =
                 Eigen::Matrix<double, kFootprintMoments, kFootprintMoments>::Zero();
             Eigen::Matrix<double, kFootprintMoments, 1> rhs =
@@ -669,15 +694,15 @@ void ForwardModel::BuildTransport(const Brdf& material) {
                 continue;
               }
               w_i = bs.w_i;
-              p_lobe = bs.pdf;  // SampleGlossyAt's pdf is GlossyPdfAt(view, w_i): not computed twice
+              p_lobe =
+                  bs.pdf;  // SampleGlossyAt's pdf is GlossyPdfAt(view, w_i): not computed twice
             }
             if (w_i.z <= 0) {
               counts.lobe_below_horizon += !uniform;
               continue;
             }
-            const double theta_i = SphericalTheta(w_i);
             if (phi_i < 0) phi_i = TableSphericalPhi(w_i);
-            const double p_zone = coverage.PdfAngles(w_i, theta_i, phi_i);
+            const double p_zone = coverage.PdfAzimuth(w_i, phi_i);
             if (p_zone <= 0) {  // not lit
               counts.lobe_unlit += !uniform;
               continue;
@@ -689,7 +714,9 @@ void ForwardModel::BuildTransport(const Brdf& material) {
             if (!(uniform ? keep_zone : keep_lobe)) continue;  // a diagnostic's split
             w_in[m] = w_i;
             w_out[m] = path.w;
-            angles[m] = {theta_i, phi_i};
+            // The polar angle only places the grid lookup in its cell (ApproxAcos's 1.3e-11
+            // rad is 1e-8 of a cell).
+            angles[m] = {ApproxAcos(w_i.z), phi_i};
             ++m;
           }
           // Single precision inside where the material has it: ~1e-6 against this sum's ~5e-3;
@@ -733,32 +760,31 @@ void ForwardModel::BuildTransport(const Brdf& material) {
         entries.resize(merged);
         // Pack (imaging.h): steps between projector pixels, weights in 1/32767 of the pixel's
         // largest |weight|.
-        const size_t begin_of_pixel = row.size();
-        const PackedRowStart start = AppendPackedRow(entries, &row);
+        size_t packed = 0;
+        const PackedRowStart start = PackRow(entries, row + used, &packed);
+        ZBRDF_ASSERT(used + packed <= row_room_begin[y + 1] - row_room_begin[y], "row room");
+        used += packed;
         first_index_[pixel] = start.first_index;
         weight_scale_[pixel] = start.scale;
-        count[pixel] = static_cast<int64_t>(row.size() - begin_of_pixel);
+        count[pixel] = static_cast<int64_t>(packed);
       }
       Report(options_.progress, {"transport", ++rows_done, height, "rows"});
     }
     std::lock_guard<std::mutex> lock(counts_mutex);
     sample_counts_ += counts;
   });
-  // Flatten rows into CSR, in pixel order (deterministic regardless of threading). The 368 MB
-  // of a full-resolution transport were copied on one thread into memory touched for the first
-  // time, 4 kB page by page: 2 s of a cold simulation with the other core idle. Now in huge
-  // pages, left unset until the rows are copied in by both threads (TransportEntry), so that
-  // the kernel's zeroing of the new pages is shared too.
-  row_begin_.assign(pixels + 1, 0);
-  std::vector<size_t> row_offset(height + 1, 0);
-  for (int y = 0; y < height; ++y) row_offset[y + 1] = row_offset[y] + rows[y].size();
-  ResizeInHugePages(&packed_, row_offset[height]);
-  ParallelFor(height, 16, [&](int64_t y0, int64_t y1) {
-    for (int64_t y = y0; y < y1; ++y) {
-      std::copy(rows[y].begin(), rows[y].end(), packed_.begin() + row_offset[y]);
-      std::vector<TransportEntry>().swap(rows[y]);
+  // The rows moved down into place, in order (each row's place is at or before its room, so
+  // nothing not yet moved is overwritten), and the room left over given back.
+  size_t end = 0;
+  for (int y = 0; y < height; ++y) {
+    if (end != row_room_begin[y] && row_used[y] > 0) {
+      std::memmove(packed_.data() + end, packed_.data() + row_room_begin[y],
+                   row_used[y] * sizeof(TransportEntry));
     }
-  });
+    end += row_used[y];
+  }
+  ShrinkInPlace(&packed_, end);
+  row_begin_.assign(pixels + 1, 0);
   int64_t offset = 0;
   for (size_t p = 0; p < pixels; ++p) {
     row_begin_[p] = offset;
@@ -809,7 +835,8 @@ std::array<double, kFootprintMoments> ForwardModel::PatternMoments(
   for (size_t j = 0; j < radiance.size(); ++j) {
     if (radiance[j] == 0) continue;
     for (int k = 0; k < kFootprintMoments; ++k) {
-      moments[k] += static_cast<double>(maps_.projector_moments[j * kFootprintMoments + k]) * radiance[j];
+      moments[k] +=
+          static_cast<double>(maps_.projector_moments[j * kFootprintMoments + k]) * radiance[j];
     }
   }
   return moments;

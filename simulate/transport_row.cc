@@ -15,8 +15,9 @@ namespace zbrdf {
 
 static_assert(sizeof(TransportEntry) == 4, "a row is read as 32-bit lanes: step low, weight high");
 
-PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
-                               std::vector<TransportEntry>* row) {
+PackedRowStart PackRow(std::span<const TransportSample> samples, TransportEntry* out,
+                       size_t* count) {
+  *count = 0;
   double largest = 0;
   for (const TransportSample& e : samples) {
     largest = std::max(largest, std::abs(static_cast<double>(e.weight)));
@@ -27,14 +28,33 @@ PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
   start.scale = static_cast<float>(largest / 32767);
   const double inverse_scale = 1.0 / start.scale;
   uint32_t previous = start.first_index;
+  TransportEntry* next = out;
   for (const TransportSample& e : samples) {
     uint32_t step = e.index - previous;
-    for (; step > 0xffffu; step -= 0xffffu) row->push_back({0xffffu, 0});
-    // |q| <= 32767 up to the scale's rounding to float.
-    const long q = std::clamp(std::lround(e.weight * inverse_scale), -32767L, 32767L);
-    row->push_back({static_cast<uint16_t>(step), static_cast<int16_t>(q)});
+    for (; step > 0xffffu; step -= 0xffffu) *next++ = {0xffffu, 0};
+    // |q| <= 32767 up to the scale's rounding to float. Rounded to nearest (ties to even) by
+    // adding and taking away 1.5 * 2^52, exact for |x| < 2^51: std::lround was a library call
+    // per entry.
+    constexpr double kRound = 0x1.8p52;
+    const double rounded = (e.weight * inverse_scale + kRound) - kRound;
+    const double q = std::clamp(rounded, -32767.0, 32767.0);
+    *next++ = {static_cast<uint16_t>(step), static_cast<int16_t>(q)};
     previous = e.index;
   }
+  *count = static_cast<size_t>(next - out);
+  return start;
+}
+
+PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
+                               std::vector<TransportEntry>* row) {
+  // Room for the gap steps of any indices (up to 2^32 / 65535 of them).
+  uint32_t span = 0;
+  if (!samples.empty()) span = samples.back().index - samples.front().index;
+  const size_t begin = row->size();
+  row->resize(begin + samples.size() + span / 0xffffu + 1);
+  size_t count = 0;
+  const PackedRowStart start = PackRow(samples, row->data() + begin, &count);
+  row->resize(begin + count);
   return start;
 }
 

@@ -29,15 +29,25 @@ struct TransportSample {
 
 // Packs one camera pixel's samples, in ascending projector pixel without repeats, onto the end of
 // *row: steps from the previous pixel (the first from the returned first index; a gap beyond
-// 65535 takes zero-weight steps of 65535) and weights rounded to nearest in units of the returned
-// scale, chosen so that the largest |weight| is 32767 (the rounding is at most scale / 2). With
-// no samples, or only zero weights, nothing is appended and the scale is 0.
+// 65535 takes zero-weight steps of 65535) and weights rounded to nearest (ties to even) in units of
+// the returned scale, chosen so that the largest |weight| is 32767 (the rounding is at most scale /
+// 2). With no samples, or only zero weights, nothing is appended and the scale is 0.
 struct PackedRowStart {
   uint32_t first_index = 0;
   float scale = 0;
 };
 PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
                                std::vector<TransportEntry>* row);
+// The same written to out[0 .. *count), which must have room for PackedRowMaxEntries(
+// samples.size(), projector_pixels) entries when every index is below projector_pixels: the
+// transport build packs each pixel straight into its row's place in the whole transport.
+PackedRowStart PackRow(std::span<const TransportSample> samples, TransportEntry* out,
+                       size_t* count);
+// The most entries a row of `samples` samples packs into: one per sample, and the gap steps,
+// fewer than projector_pixels / 65535 + 1 since the steps add up to less than projector_pixels.
+inline size_t PackedRowMaxEntries(size_t samples, uint32_t projector_pixels) {
+  return samples + projector_pixels / 0xffffu + 1;
+}
 
 // sum over the row of weight * radiance[j], j = first + the steps up to and including the
 // entry's: each product rounded to float (exact for the weight, which has 16 bits), summed in

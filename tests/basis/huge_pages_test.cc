@@ -1,12 +1,12 @@
 #include "basis/huge_pages.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "basis/freed_memory.h"
 
@@ -25,8 +25,9 @@ std::string ThpMode() {
              : line.substr(open + 1, close - open - 1);
 }
 
-// kB of huge pages in the mapping that holds address p (/proc/self/smaps), -1 if not found.
-long AnonHugePagesKbAt(const void* p) {
+// kB of `field` ("AnonHugePages", "Rss") of the mapping that holds address p (/proc/self/smaps),
+// -1 if not found.
+long SmapsKbAt(const void* p, const std::string& field) {
   std::ifstream in("/proc/self/smaps");
   const uintptr_t a = reinterpret_cast<uintptr_t>(p);
   std::string line;
@@ -39,10 +40,11 @@ long AnonHugePagesKbAt(const void* p) {
       inside = a >= lo && a < hi;
       continue;
     }
-    if (inside && line.rfind("AnonHugePages:", 0) == 0) return std::stol(line.substr(14));
+    if (inside && line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
   }
   return -1;
 }
+long AnonHugePagesKbAt(const void* p) { return SmapsKbAt(p, "AnonHugePages"); }
 
 TEST(HugePagesTest, AssignGivesTheValuesWhateverThePages) {
   std::vector<float> v(10, 3.0f);
@@ -55,6 +57,28 @@ TEST(HugePagesTest, AssignGivesTheValuesWhateverThePages) {
     }
   }
   AdviseHugePagesDiscardingContents(nullptr, 0);  // nothing to advise: no effect
+}
+
+TEST(HugePagesTest, ShrinkingInPlaceKeepsTheValuesAndGivesTheRestBack) {
+  // 64 MB touched, cut to its first 4 MB: the values stay, the array stays where it was (no
+  // copy), and the resident memory of the mapping that holds it (the heap, where the freed
+  // memory setting of the test binaries sends every block, with what else lives there) falls by
+  // about the 60 MB cut off.
+  std::vector<float> v(size_t{16} << 20);
+  for (size_t k = 0; k < v.size(); ++k) v[k] = static_cast<float>(k % 1000);
+  const float* const data = v.data();
+  const long before = SmapsKbAt(data, "Rss");
+  ShrinkInPlace(&v, size_t{1} << 20);
+  ASSERT_EQ(v.size(), size_t{1} << 20);
+  EXPECT_EQ(v.data(), data);
+  for (size_t k = 0; k < v.size(); k += 997) ASSERT_EQ(v[k], static_cast<float>(k % 1000)) << k;
+  const long after = SmapsKbAt(data, "Rss");
+  if (before < 0 || after < 0) GTEST_SKIP() << "no /proc/self/smaps entry for the array";
+  // 60 MB given back, less at most a 2 MB huge page at the cut.
+  EXPECT_GE(before - after, 58 * 1024) << "before " << before << " kB, after " << after;
+  ShrinkInPlace(&v, 0);  // everything given back: still a valid, empty vector
+  EXPECT_TRUE(v.empty());
+  DiscardPages(nullptr, 0);
 }
 
 TEST(HugePagesTest, AnAdvisedArrayGetsHugePagesWhereTheKernelGivesThem) {

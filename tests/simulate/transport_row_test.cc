@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "simulate/imaging.h"
@@ -168,6 +169,46 @@ TEST(TransportRowTest, PackingKeepsPixelsAndWeightsAcrossLargeGaps) {
   const std::vector<TransportSample> zeros = {{4, 0.0f}, {9, 0.0f}};
   EXPECT_EQ(AppendPackedRow(zeros, &row).scale, 0.0f);
   EXPECT_EQ(row.size(), 1u + samples.size() + 1 + 3);
+}
+
+TEST(TransportRowTest, PackingIntoPlaceWritesTheSameEntriesWithinItsBound) {
+  // PackRow into raw storage sized by PackedRowMaxEntries, guard entries after it: the same
+  // entries as AppendPackedRow, within the bound, nothing written past it. Rows whose steps
+  // nearly span the projector (the most gap steps) and random rows (fixed seed).
+  constexpr uint32_t kProjector = 480000;
+  std::vector<std::vector<TransportSample>> rows = {
+      {{0, 1.0f}, {kProjector - 1, -2.0f}},
+      {{5, 1.0f}, {65541, 1.0f}, {131077, 1.0f}, {196613, 3.0f}, {kProjector - 1, 0.5f}},
+      {{123, 4.0f}}};
+  std::mt19937 rng(3);
+  for (int r = 0; r < 20; ++r) {
+    std::vector<TransportSample> row;
+    for (uint32_t j = rng() % 1000; j < kProjector; j += 1 + rng() % 20000) {
+      row.push_back({j, std::uniform_real_distribution<float>(-1, 1)(rng)});
+    }
+    rows.push_back(row);
+  }
+  const TransportEntry guard{0x1234, -0x4321};
+  for (const auto& samples : rows) {
+    std::vector<TransportEntry> appended;
+    const PackedRowStart expected = AppendPackedRow(samples, &appended);
+    const size_t bound = PackedRowMaxEntries(samples.size(), kProjector);
+    std::vector<TransportEntry> storage(bound + 4, guard);
+    size_t count = 0;
+    const PackedRowStart start = PackRow(samples, storage.data(), &count);
+    EXPECT_EQ(start.first_index, expected.first_index);
+    EXPECT_EQ(start.scale, expected.scale);
+    ASSERT_EQ(count, appended.size());
+    EXPECT_LE(count, bound);
+    for (size_t e = 0; e < count; ++e) {
+      EXPECT_EQ(storage[e].step, appended[e].step) << e;
+      EXPECT_EQ(storage[e].weight, appended[e].weight) << e;
+    }
+    for (size_t e = bound; e < storage.size(); ++e) {
+      EXPECT_EQ(storage[e].step, guard.step);
+      EXPECT_EQ(storage[e].weight, guard.weight);
+    }
+  }
 }
 
 }  // namespace ZBRDF_TEST_FILE_ID
