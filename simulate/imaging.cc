@@ -137,8 +137,8 @@ class Coverage {
  public:
   Coverage(const ProjectorDirectionGrid& grid, const std::function<bool(const Vec3&)>& covered)
       : step_(grid.step_rad), columns_per_rad_(grid.NodesPerRad()), n_phi_(grid.n_phi) {
-    lo_.assign(n_phi_, 0.0);
-    hi_.assign(n_phi_, 0.0);
+    // Per column, the lit theta interval [lo, hi] (0, 0 where none).
+    std::vector<double> lo(n_phi_, 0.0), hi(n_phi_, 0.0);
     sin2_lo_.assign(n_phi_, 0.0);
     sin2_span_.assign(n_phi_, 0.0);
     sin2_hi_.assign(n_phi_, 0.0);
@@ -167,15 +167,15 @@ class Coverage {
           }
           return inside;
         };
-        lo_[j] = refine(std::max(0.0, (first - 1) * step_), first * step_);
-        hi_[j] = refine(std::min(M_PI / 2, (last + 1) * step_), last * step_);
-        if (hi_[j] < lo_[j]) hi_[j] = lo_[j];
-        theta_min_ = std::min(theta_min_, lo_[j]);
-        theta_max_ = std::max(theta_max_, hi_[j]);
+        lo[j] = refine(std::max(0.0, (first - 1) * step_), first * step_);
+        hi[j] = refine(std::min(M_PI / 2, (last + 1) * step_), last * step_);
+        if (hi[j] < lo[j]) hi[j] = lo[j];
+        theta_min_ = std::min(theta_min_, lo[j]);
+        theta_max_ = std::max(theta_max_, hi[j]);
       }
       // Projected solid angle of the column: integral cos(theta) dw = (sin^2 hi - sin^2 lo) / 2.
-      sin2_lo_[j] = Sin2(lo_[j]);
-      sin2_hi_[j] = Sin2(hi_[j]);
+      sin2_lo_[j] = Sin2(lo[j]);
+      sin2_hi_[j] = Sin2(hi[j]);
       sin2_span_[j] = sin2_hi_[j] - sin2_lo_[j];
       column_weights[j] = 0.5 * sin2_span_[j] * step_;
       total += column_weights[j];
@@ -222,7 +222,6 @@ class Coverage {
   static double Sin2(double theta) { return std::sin(theta) * std::sin(theta); }
   double step_, columns_per_rad_;
   int n_phi_;
-  std::vector<double> lo_, hi_;
   // Per column sin^2(lo), sin^2(hi) and their difference, once, instead of sines per sample.
   std::vector<double> sin2_lo_, sin2_hi_, sin2_span_;
   std::optional<Distribution1D> columns_;  // weights: the columns' projected solid angles

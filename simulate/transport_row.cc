@@ -47,11 +47,12 @@ PackedRowStart PackRow(std::span<const TransportSample> samples, TransportEntry*
 
 PackedRowStart AppendPackedRow(std::span<const TransportSample> samples,
                                std::vector<TransportEntry>* row) {
-  // Room for the gap steps of any indices (up to 2^32 / 65535 of them).
+  // The steps add up to the indices' span: its bound is PackRow's for a projector of that many
+  // pixels.
   uint32_t span = 0;
   if (!samples.empty()) span = samples.back().index - samples.front().index;
   const size_t begin = row->size();
-  row->resize(begin + samples.size() + span / 0xffffu + 1);
+  row->resize(begin + PackedRowMaxEntries(samples.size(), span));
   size_t count = 0;
   const PackedRowStart start = PackRow(samples, row->data() + begin, &count);
   row->resize(begin + count);

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "acquisition/processing.h"
 #include "acquisition/session.h"
 #include "basis/error.h"
 #include "basis/option_checker.h"
@@ -103,7 +104,8 @@ class GigEFakeLink {
       link_.next_index_ = index;
     }
     Frame Grab(std::chrono::milliseconds timeout) override {
-      if (link_.options_.stop_after_frames > 0 && link_.grabbed_ >= link_.options_.stop_after_frames) {
+      if (link_.options_.stop_after_frames > 0 &&
+          link_.grabbed_ >= link_.options_.stop_after_frames) {
         link_.fake_->Stop();  // as if the camera lost power; the driver notices and says so
       }
       Frame frame = link_.driver_->Grab(timeout);
@@ -164,7 +166,8 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     const nlohmann::json s = SessionFolder::Open(args.job.out_dir).session();
     const std::string material = s.value("material", std::string());
     if (material.empty()) {
-      throw InputError("session " + args.job.out_dir + " was not captured on the virtual rig "
+      throw InputError("session " + args.job.out_dir +
+                       " was not captured on the virtual rig "
                        "(no material in session.json); resume it with its hardware rig file");
     }
     if (!args.material_spec.empty() && MakeBrdf(args.material_spec)->Spec() != material) {
@@ -177,7 +180,8 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
     args.faults_yaml = s.value("faults", std::string());
     args.faults_name = "session faults";
     // The link is how frames travel, not what they are: a session may resume over either.
-    if (args.calibration_folder.empty()) args.calibration_folder = s.value("calibration_folder", std::string());
+    if (args.calibration_folder.empty())
+      args.calibration_folder = s.value("calibration_folder", std::string());
   }
   if (args.material_spec.empty()) throw InputError("no --material given for the virtual rig");
   VirtualCaptureOutcome out;
@@ -219,7 +223,8 @@ VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args) {
       hook(plan, material);
     };
   }
-  out.result = RunCaptureJob(args.rig, calibration, *camera, rig.projector(), rig.clock(), args.job);
+  out.result =
+      RunCaptureJob(args.rig, calibration, *camera, rig.projector(), rig.clock(), args.job);
   if (gige) out.incomplete_frames = gige->incomplete_frames();
   out.device_time_s = rig.clock().NowUs() * 1e-6;
   return out;
@@ -247,6 +252,36 @@ std::string ReadTextFile(const std::string& path, const std::string& what) {
 
 std::string SessionCalibrationFolder(const std::string& session_dir) {
   return SessionFolder::Open(session_dir).session().value("calibration_folder", std::string());
+}
+
+namespace {
+
+// Whether the true coefficients integrated for `a` hold for `b`: the same zone, order and grid.
+bool SameLayout(const ZonalData& a, const ZonalData& b) {
+  const ExitantGrid &g = a.grid, &h = b.grid;
+  return a.theta_min_rad == b.theta_min_rad && a.theta_max_rad == b.theta_max_rad &&
+         a.order == b.order && g.theta_min_rad == h.theta_min_rad &&
+         g.theta_max_rad == h.theta_max_rad && g.theta_step_rad == h.theta_step_rad &&
+         g.phi_step_rad == h.phi_step_rad && g.n_theta == h.n_theta && g.n_phi == h.n_phi;
+}
+
+}  // namespace
+
+void EarlyTruth::StartAtPlan(VirtualCaptureArgs* args) {
+  args->on_plan_material = [this, processing = args->job.processing](
+                               const CapturePlan& plan,
+                               const std::shared_ptr<const Brdf>& material) {
+    layout_ = ZonalLayout(plan, processing);
+    early_ = std::async(std::launch::async,
+                        [material, layout = layout_, options = options_, cache = cache_dir_] {
+                          return TrueZonalCoefficientsCached(*material, layout, options, cache);
+                        });
+  };
+}
+
+GroundTruth EarlyTruth::Get(const Brdf& material, const ZonalData& zonal) {
+  if (early_.valid() && SameLayout(layout_, zonal)) return early_.get();
+  return TrueZonalCoefficientsCached(material, zonal, options_, cache_dir_);
 }
 
 }  // namespace zbrdf

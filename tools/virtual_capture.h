@@ -2,10 +2,12 @@
 #pragma once
 
 #include <functional>
+#include <future>
 #include <memory>
 #include <string>
 
 #include "acquisition/capture_job.h"
+#include "acquisition/ground_truth.h"
 #include "brdf/brdf.h"
 #include "rig/rig.h"
 
@@ -13,7 +15,7 @@ namespace zbrdf {
 
 // How the virtual camera's frames reach the capture session.
 enum class CameraLink {
-  kDirect,    // the session grabs from the virtual camera
+  kDirect,  // the session grabs from the virtual camera
   // Through the real GigE Vision stack: the virtual camera's frames are served by an Aravis fake
   // camera on 127.0.0.1 (drivers/fake_gige_camera.h) and grabbed by the AravisCamera driver, in
   // the sensor's pixel format (BayerRG12 for the thesis rig), with software triggers. Frames are
@@ -55,8 +57,8 @@ struct VirtualCaptureArgs {
 struct VirtualCaptureOutcome {
   CaptureJobResult result;
   std::shared_ptr<const Brdf> material;
-  double device_time_s = 0;   // on the virtual rig's clock: what the real rig would take
-  double setup_seconds = 0;   // maps and transport
+  double device_time_s = 0;  // on the virtual rig's clock: what the real rig would take
+  double setup_seconds = 0;  // maps and transport
   size_t transport_entries = 0;
   // CameraLink::kGigEFake: frames the driver dropped for missing packets and captured again.
   uint64_t incomplete_frames = 0;
@@ -66,6 +68,29 @@ struct VirtualCaptureOutcome {
 // calibration. A resumed session keeps its own material, seed, noise setting, faults and
 // calibration (from session.json) unless they are given explicitly and agree.
 VirtualCaptureOutcome RunVirtualCapture(VirtualCaptureArgs args);
+
+// The material's true coefficients for a virtual capture (zbrdf simulate, the simulator's
+// benchmark), integrated on a thread of their own from the plan on: the plan gives the layout
+// processing lays the coefficients out in (zone, order, exitant grid; ZonalLayout), so they are
+// ready by the last frame instead of after it. Declare it before RunVirtualCapture: if the
+// capture throws, its destructor waits for the integration.
+class EarlyTruth {
+ public:
+  EarlyTruth(const GroundTruthOptions& options, std::string cache_dir)
+      : options_(options), cache_dir_(std::move(cache_dir)) {}
+  // Sets args->on_plan_material to start the integration when the capture has its plan, laid
+  // out by args->job.processing as it is now (set it first).
+  void StartAtPlan(VirtualCaptureArgs* args);
+  // The true coefficients for the capture's: the early ones where their layout is zonal's, else
+  // (no plan was reached, or processing laid them out otherwise) integrated now. Once.
+  GroundTruth Get(const Brdf& material, const ZonalData& zonal);
+
+ private:
+  GroundTruthOptions options_;
+  std::string cache_dir_;
+  ZonalData layout_;
+  std::future<GroundTruth> early_;
+};
 
 // The rig description a session was captured with (session.json), parsed and validated.
 Rig SessionRig(const std::string& session_dir);

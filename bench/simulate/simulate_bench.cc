@@ -1,7 +1,6 @@
 // Simulator speed: transport build and frames for the thesis rig, at both presets, and whole
 // simulated sessions against the rig time they stand for (docs/bench.md, "Simulator speed").
 #include <benchmark/benchmark.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,12 +8,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <future>
 #include <memory>
 #include <vector>
 
 #include "acquisition/ground_truth.h"
-#include "acquisition/processing.h"
 #include "basis/data_path.h"
 #include "brdf/material_spec.h"
 #include "simulate/imaging.h"
@@ -120,20 +117,20 @@ namespace {
 
 // A whole `zbrdf simulate` of merl:blue-acrylic at order 4 (issue "faster than the rig"): build
 // or load the rig's maps and the light transport, meter, capture and process every frame, and
-// compute the true coefficients (on their own thread from the plan on, as zbrdf simulate), with the cache folder empty (cold: the first run on a machine)
-// or filled by an untimed run (warm: every later capture, order or session of the same rig,
-// material and seed). Counters: wall_s, rig_s (the virtual rig's clock: what the real rig
-// takes), ratio = wall_s / rig_s (the issue asks <= 0.25 at full resolution),
-// ready_s (zonal.exr on disk after the last frame, <= 1 s asked) and coef_error_pct (the
-// coefficient error in the zone against the true coefficients, as zbrdf simulate reports it).
-// Arguments: preset (0 fast, 1 full), cache (0 cold, 1 warm), samples per pixel (0: the rig's;
-// zbrdf simulate --samples-per-pixel).
+// compute the true coefficients (on their own thread from the plan on, as zbrdf simulate), with the
+// cache folder empty (cold: the first run on a machine) or filled by an untimed run (warm: every
+// later capture, order or session of the same rig, material and seed). Counters: wall_s, rig_s (the
+// virtual rig's clock: what the real rig takes), ratio = wall_s / rig_s (the issue asks <= 0.25 at
+// full resolution), ready_s (zonal.exr on disk after the last frame, <= 1 s asked) and
+// coef_error_pct (the coefficient error in the zone against the true coefficients, as zbrdf
+// simulate reports it). Arguments: preset (0 fast, 1 full), cache (0 cold, 1 warm), samples per
+// pixel (0: the rig's; zbrdf simulate --samples-per-pixel).
 void BM_SimulatedSession(benchmark::State& state) {
   namespace fs = std::filesystem;
   const bool full = state.range(0) != 0, warm = state.range(1) != 0;
   const int samples = static_cast<int>(state.range(2));
-  const std::string root = fs::temp_directory_path().string() + "/zbrdf-bench-session-" +
-                           std::to_string(::getpid());
+  const std::string root =
+      fs::temp_directory_path().string() + "/zbrdf-bench-session-" + std::to_string(::getpid());
   const std::string cache = root + "/cache";
   ::setenv("ZBRDF_CACHE_DIR", cache.c_str(), 1);
   Rig rig =
@@ -147,22 +144,11 @@ void BM_SimulatedSession(benchmark::State& state) {
     args.material_spec = "merl:blue-acrylic";
     args.job.out_dir = root + "/session-" + std::to_string(run++);
     args.job.order = 4;
-    // As zbrdf simulate does: the true coefficients on a thread of their own from the plan on,
-    // while the frames are rendered (the plan's layout is the capture's: order, zone, grid).
-    std::future<GroundTruth> early_truth;
-    args.on_plan_material = [&](const CapturePlan& plan,
-                                const std::shared_ptr<const Brdf>& material) {
-      early_truth = std::async(std::launch::async,
-                               [material, layout = ZonalLayout(plan, args.job.processing), cache] {
-                                 return TrueZonalCoefficientsCached(
-                                     *material, layout, GroundTruthOptions(), cache + "/truth");
-                               });
-    };
+    // As zbrdf simulate does: the true coefficients on a thread of their own from the plan on.
+    EarlyTruth truth_job(GroundTruthOptions(), cache + "/truth");
+    truth_job.StartAtPlan(&args);
     const VirtualCaptureOutcome out = RunVirtualCapture(args);
-    const GroundTruth truth =
-        early_truth.valid() ? early_truth.get()
-                            : TrueZonalCoefficientsCached(*out.material, out.result.zonal,
-                                                          GroundTruthOptions(), cache + "/truth");
+    const GroundTruth truth = truth_job.Get(*out.material, out.result.zonal);
     fs::remove_all(args.job.out_dir);
     return std::make_pair(out, CoefficientError(out.result.zonal, truth));
   };

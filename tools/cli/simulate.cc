@@ -24,15 +24,6 @@
 namespace zbrdf::cli {
 namespace {
 
-// Whether the true coefficients integrated for `a` hold for `b`: the same zone, order and grid.
-bool SameLayout(const ZonalData& a, const ZonalData& b) {
-  const ExitantGrid &g = a.grid, &h = b.grid;
-  return a.theta_min_rad == b.theta_min_rad && a.theta_max_rad == b.theta_max_rad &&
-         a.order == b.order && g.theta_min_rad == h.theta_min_rad &&
-         g.theta_max_rad == h.theta_max_rad && g.theta_step_rad == h.theta_step_rad &&
-         g.phi_step_rad == h.phi_step_rad && g.n_theta == h.n_theta && g.n_phi == h.n_phi;
-}
-
 using SteadyTime = std::chrono::steady_clock;
 double Seconds(SteadyTime::time_point a, SteadyTime::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -109,20 +100,10 @@ int RunSimulate(const std::vector<std::string>& argv) {
   truth_options.samples = 1;
   while (truth_options.samples < truth_samples) truth_options.samples *= 2;
   const std::string truth_cache = DefaultCacheDir() + "/truth";
-  // The true coefficients need only the material and the plan's zone, order and exitant grid
-  // (ZonalLayout, as processing lays them out): they are integrated on a thread of their own
-  // while the frames are captured, and checked against the capture's layout when it ends.
-  // (Declared before the capture: if it throws, the future's destructor waits for the thread.)
-  ZonalData early_layout;
-  std::future<GroundTruth> early_truth;
-  args.on_plan_material = [&](const CapturePlan& plan,
-                              const std::shared_ptr<const Brdf>& material) {
-    early_layout = ZonalLayout(plan, options.processing);
-    early_truth = std::async(
-        std::launch::async, [material, layout = early_layout, truth_options, truth_cache] {
-          return TrueZonalCoefficientsCached(*material, layout, truth_options, truth_cache);
-        });
-  };
+  // Integrated while the frames are captured (EarlyTruth), checked against the capture's layout
+  // when it ends.
+  EarlyTruth truth_job(truth_options, truth_cache);
+  truth_job.StartAtPlan(&args);
   const VirtualCaptureOutcome outcome = RunVirtualCapture(args);
   const CaptureJobResult& result = outcome.result;
   const Brdf& material = *outcome.material;
@@ -134,10 +115,7 @@ int RunSimulate(const std::vector<std::string>& argv) {
                  result.capture.frames_captured, out_dir.c_str());
     return 130;
   }
-  const GroundTruth truth =
-      early_truth.valid() && SameLayout(early_layout, result.zonal)
-          ? early_truth.get()
-          : TrueZonalCoefficientsCached(material, result.zonal, truth_options, truth_cache);
+  const GroundTruth truth = truth_job.Get(material, result.zonal);
   const double error = CoefficientError(result.zonal, truth);
   const auto t_truth = SteadyTime::now();
 
