@@ -130,6 +130,19 @@ HdrImage MergeExposures(const std::vector<Frame>& frames, const RigCalibration& 
   return hdr;
 }
 
+namespace {
+
+// std::clamp(std::lround(x), 0, 65535) without the library call (a tenth of the HDR images'
+// CPU, per pixel of every image): halves away from zero as lround, NaN and negatives to 0.
+inline uint16_t RoundToUint16(double x) {
+  if (!(x > 0)) return 0;
+  if (x >= 65535) return 65535;
+  const int whole = static_cast<int>(x);  // truncation; x - whole is exact
+  return static_cast<uint16_t>(whole + (x - whole >= 0.5 ? 1 : 0));
+}
+
+}  // namespace
+
 cv::Mat HdrToRgb(const HdrImage& hdr) {
   double max_rate = 0;
   for (size_t i = 0; i < hdr.rate.size(); ++i) max_rate = std::max<double>(max_rate, hdr.rate[i]);
@@ -141,7 +154,7 @@ cv::Mat HdrToRgb(const HdrImage& hdr) {
   mosaic.bit_depth = 16;
   mosaic.data.resize(hdr.rate.size());
   for (size_t i = 0; i < hdr.rate.size(); ++i) {
-    mosaic.data[i] = static_cast<uint16_t>(std::clamp(std::lround(hdr.rate[i] * scale), 0L, 65535L));
+    mosaic.data[i] = RoundToUint16(hdr.rate[i] * scale);
   }
   cv::Mat rgb = DemosaicToRgb(mosaic);  // CV_32FC3, R G B, in 16-bit counts
   rgb *= 1.0 / scale;

@@ -106,44 +106,145 @@ std::optional<Hit> Paraboloid::Intersect(const Ray& ray, double t_min, bool* fro
 // ---------------------------------------------------------------------------------------------
 DomeSurface::DomeSurface(const DomeDesign& design) {
   for (const auto& p : design.profile) {
-    r_.push_back(p.r_mm);
-    z_.push_back(p.z_mm);
+    node_.push_back({p.z_mm, p.r_mm, 0.0});
     nr_.push_back(p.normal_r);
     nz_.push_back(p.normal_z);
   }
-  ZBRDF_ASSERT(z_.size() >= 2, "dome profile too short");
-  const int bins = static_cast<int>(4 * z_.size());
-  bin_scale_ = bins / (z_.back() - z_.front());
+  ZBRDF_ASSERT(node_.size() >= 2, "dome profile too short");
+  for (size_t s = 0; s + 1 < node_.size(); ++s) {
+    node_[s].slope = (node_[s + 1].r - node_[s].r) / (node_[s + 1].z - node_[s].z);
+  }
+  node_.back().slope = node_[node_.size() - 2].slope;
+  concave_ = true;
+  for (size_t s = 1; s + 1 < node_.size(); ++s) concave_ &= node_[s].slope <= node_[s - 1].slope;
+  // The quadric fit, on u in [-1, 1]: normal equations of 3 unknowns, solved by elimination.
+  fit_z0_ = 0.5 * (node_.front().z + node_.back().z);
+  fit_u_per_mm_ = 2 / std::max(1e-9, node_.back().z - node_.front().z);
+  double m[3][4] = {};
+  for (const Node& n : node_) {
+    const double u = (n.z - fit_z0_) * fit_u_per_mm_, basis[3] = {1, u, u * u};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) m[i][j] += basis[i] * basis[j];
+      m[i][3] += basis[i] * n.r * n.r;
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    for (int i = k + 1; i < 3; ++i) {
+      const double f = m[i][k] / m[k][k];
+      for (int j = k; j < 4; ++j) m[i][j] -= f * m[k][j];
+    }
+  }
+  for (int k = 2; k >= 0; --k) {
+    double v = m[k][3];
+    for (int j = k + 1; j < 3; ++j) v -= m[k][j] * fit_[j];
+    fit_[k] = v / m[k][k];
+  }
+  // A profile of fewer than three distinct heights has no quadric: the bracketing search only.
+  if (!(std::isfinite(fit_[0]) && std::isfinite(fit_[1]) && std::isfinite(fit_[2]))) {
+    concave_ = false;
+  }
+  const double z_lo = node_.front().z, z_hi = node_.back().z;
+  const int bins = static_cast<int>(4 * node_.size());
+  bin_scale_ = bins / (z_hi - z_lo);
   bin_first_segment_.resize(bins + 1);
   int segment = 0;
-  const int last_segment = static_cast<int>(z_.size()) - 2;
+  const int last_segment = static_cast<int>(node_.size()) - 2;
   for (int b = 0; b <= bins; ++b) {
-    const double z = z_.front() + b / bin_scale_;
-    while (segment < last_segment && z_[segment + 1] < z) ++segment;
+    const double z = z_lo + b / bin_scale_;
+    while (segment < last_segment && node_[segment + 1].z < z) ++segment;
     bin_first_segment_[b] = segment;
   }
 }
 
 double DomeSurface::RadiusAt(double z, int* segment) const {
-  const int last_segment = static_cast<int>(z_.size()) - 2;
-  int bin = static_cast<int>((z - z_.front()) * bin_scale_);
+  const int last_segment = static_cast<int>(node_.size()) - 2;
+  int bin = static_cast<int>((z - node_.front().z) * bin_scale_);
   bin = std::clamp(bin, 0, static_cast<int>(bin_first_segment_.size()) - 1);
   int s = bin_first_segment_[bin];
-  while (s < last_segment && z_[s + 1] < z) ++s;
+  while (s < last_segment && node_[s + 1].z < z) ++s;
   *segment = s;
-  const double u = (z - z_[s]) / (z_[s + 1] - z_[s]);
-  return r_[s] + u * (r_[s + 1] - r_[s]);
+  // The segment's slope rather than a division by its height (RadiusAt runs ~9 times per ray).
+  return node_[s].r + (z - node_[s].z) * node_[s].slope;
+}
+
+int DomeSurface::SegmentAt(double z) const {
+  const int last_segment = static_cast<int>(node_.size()) - 2;
+  int bin = static_cast<int>((z - node_.front().z) * bin_scale_);
+  bin = std::clamp(bin, 0, static_cast<int>(bin_first_segment_.size()) - 1);
+  int s = bin_first_segment_[bin];
+  while (s < last_segment && node_[s + 1].z < z) ++s;
+  return s;
+}
+
+DomeSurface::Cone DomeSurface::ConeOf(const Vec3& o, const Vec3& d, int s) const {
+  Cone cone;
+  cone.slope = node_[s].slope;
+  cone.c0 = node_[s].r + cone.slope * (o.z - node_[s].z);
+  cone.qa = d.x * d.x + d.y * d.y - cone.slope * cone.slope * d.z * d.z;
+  cone.qb = 2 * (o.x * d.x + o.y * d.y - cone.slope * d.z * cone.c0);
+  const double qc = o.x * o.x + o.y * o.y - cone.c0 * cone.c0;
+  cone.n = SolveQuadratic(cone.qa, cone.qb, qc, cone.roots);
+  return cone;
+}
+
+bool DomeSurface::ConeExit(const Vec3& o, const Vec3& d, int s, double* t_exit) const {
+  // The bracketing search's final solve too, so that both give the same root.
+  const Cone cone = ConeOf(o, d, s);
+  for (int i = 0; i < cone.n; ++i) {
+    const double t = cone.roots[i];
+    if (2 * cone.qa * t + cone.qb <= 0) continue;  // an entry into the cone, not the exit
+    if (!cone.UpperNappe(t, d.z)) continue;
+    *t_exit = t;
+    return true;
+  }
+  return false;
+}
+
+bool DomeSurface::ExitByCones(const Vec3& o, const Vec3& d, double t_lo, double t_hi,
+                              double* t_exit) const {
+  // The quadric's exit: (o + t d)_xy^2 = fit(u0 + t du), where it goes from inside to outside.
+  const double u0 = (o.z - fit_z0_) * fit_u_per_mm_, du = d.z * fit_u_per_mm_;
+  const double qa = d.x * d.x + d.y * d.y - fit_[2] * du * du;
+  const double qb = 2 * (o.x * d.x + o.y * d.y) - fit_[1] * du - 2 * fit_[2] * u0 * du;
+  const double qc = o.x * o.x + o.y * o.y - (fit_[0] + fit_[1] * u0 + fit_[2] * u0 * u0);
+  double roots[2];
+  const int n = SolveQuadratic(qa, qb, qc, roots);
+  double t = -1;
+  for (int i = 0; i < n && t < 0; ++i) {
+    if (2 * qa * roots[i] + qb > 0) t = roots[i];
+  }
+  if (t < 0) return false;
+  const double z_lo = node_.front().z, z_hi = node_.back().z;
+  t = std::clamp(t, t_lo, t_hi);
+  int s = SegmentAt(std::clamp(o.z + t * d.z, z_lo, z_hi));
+  // Each cone step is Newton's on the exact local surface: from the quadric's ~0.01 mm the
+  // first lands within a segment or two of the exit, the second on it.
+  const double tolerance = 1e-9 * (1 + t_hi);
+  for (int iter = 0; iter < 8; ++iter) {
+    double t_cone = 0;
+    if (!ConeExit(o, d, s, &t_cone)) return false;
+    if (t_cone < t_lo - tolerance || t_cone > t_hi + tolerance) return false;
+    const double z = o.z + t_cone * d.z;
+    if (z >= node_[s].z - 1e-9 && z <= node_[s + 1].z + 1e-9) {
+      *t_exit = t_cone;
+      return true;
+    }
+    const int next = SegmentAt(std::clamp(z, z_lo, z_hi));
+    if (next == s) return false;
+    s = next;
+  }
+  return false;
 }
 
 std::optional<Hit> DomeSurface::Intersect(const Ray& ray, double t_min) const {
   const Vec3& o = ray.origin;
   const Vec3& d = ray.direction;
-  const double z_lo = z_.front(), z_hi = z_.back();
+  const double z_lo = node_.front().z, z_hi = node_.back().z;
   // The t interval within the dome's height range.
   double t_lo = t_min, t_hi;
   if (std::abs(d.z) < 1e-15) {
     if (o.z < z_lo || o.z > z_hi) return std::nullopt;
-    t_hi = t_min + 4 * (r_.front() + std::hypot(o.x, o.y)) + 1;
+    t_hi = t_min + 4 * (node_.front().r + std::hypot(o.x, o.y)) + 1;
   } else {
     const double ta = (z_lo - o.z) / d.z, tb = (z_hi - o.z) / d.z;
     t_lo = std::max(t_min, std::min(ta, tb));
@@ -162,6 +263,11 @@ std::optional<Hit> DomeSurface::Intersect(const Ray& ray, double t_min) const {
   double g_hi = g(t_hi, &seg_hi);
   if (g_lo > 0) return std::nullopt;  // starts outside the mirror
   if (g_hi < 0) return std::nullopt;  // leaves through the top hole or below the lower edge
+  double t_hit = 0;
+  // A concave profile has one exit: found from the quadric guess in two or three cone solves
+  // (BM_DomeIntersect: 2x faster than the bracketing below, which stays for other profiles and
+  // for rays the guess does not settle).
+  if (concave_ && ExitByCones(o, d, t_lo, t_hi, &t_hit)) return HitAt(ray, t_hit);
   // Bracket the exit until it lies within one cone frustum, then solve exactly. The bracket
   // shrinks by false position with the Illinois modification (an end kept twice in a row has
   // its g halved, so both ends close in): g is smooth on the scale of the bracket (thousands
@@ -188,34 +294,31 @@ std::optional<Hit> DomeSurface::Intersect(const Ray& ray, double t_min) const {
       kept = -1;
     }
   }
-  double t_hit = 0.5 * (a + b);
+  t_hit = 0.5 * (a + b);
   bool solved = false;
   for (int s : {seg_lo, seg_hi}) {
-    const double slope = (r_[s + 1] - r_[s]) / (z_[s + 1] - z_[s]);
-    const double c0 = r_[s] + slope * (o.z - z_[s]);
-    const double qa = d.x * d.x + d.y * d.y - slope * slope * d.z * d.z;
-    const double qb = 2 * (o.x * d.x + o.y * d.y - slope * d.z * c0);
-    const double qc = o.x * o.x + o.y * o.y - c0 * c0;
-    double roots[2];
-    const int n = SolveQuadratic(qa, qb, qc, roots);
+    const Cone cone = ConeOf(o, d, s);
     const double tolerance = 1e-9 * (1 + b);
-    for (int i = 0; i < n && !solved; ++i) {
-      const double t = roots[i];
+    for (int i = 0; i < cone.n && !solved; ++i) {
+      const double t = cone.roots[i];
       if (t < a - tolerance || t > b + tolerance) continue;
       const double z = o.z + t * d.z;
-      if (z < z_[s] - 1e-9 || z > z_[s + 1] + 1e-9) continue;
-      if (c0 + slope * d.z * t < 0) continue;  // the mirrored nappe of the cone
+      if (z < node_[s].z - 1e-9 || z > node_[s + 1].z + 1e-9) continue;
+      if (!cone.UpperNappe(t, d.z)) continue;
       t_hit = t;
       solved = true;
     }
     if (solved) break;
   }
+  return HitAt(ray, t_hit);
+}
+
+Hit DomeSurface::HitAt(const Ray& ray, double t_hit) const {
   Hit hit;
   hit.t = t_hit;
   hit.point = ray.At(t_hit);
-  int s = 0;
-  RadiusAt(std::clamp(hit.point.z, z_lo, z_hi), &s);
-  const double u = std::clamp((hit.point.z - z_[s]) / (z_[s + 1] - z_[s]), 0.0, 1.0);
+  const int s = SegmentAt(std::clamp(hit.point.z, node_.front().z, node_.back().z));
+  const double u = std::clamp((hit.point.z - node_[s].z) / (node_[s + 1].z - node_[s].z), 0.0, 1.0);
   double nr = (1 - u) * nr_[s] + u * nr_[s + 1], nz = (1 - u) * nz_[s] + u * nz_[s + 1];
   const double len = std::sqrt(nr * nr + nz * nz);
   nr /= len;

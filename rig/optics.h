@@ -73,13 +73,47 @@ class DomeSurface {
   // Exit of a ray starting inside the dome (between the axis and the mirror): the hit with
   // the mirror, or nothing if the ray leaves through the top hole or below the lower edge.
   std::optional<Hit> Intersect(const Ray& ray, double t_min) const;
-  double z_min() const { return z_.front(); }
-  double z_max() const { return z_.back(); }
+  double z_min() const { return node_.front().z; }
+  double z_max() const { return node_.back().z; }
 
  private:
+  // A profile point with the slope dr/dz of the segment above it: a segment's radius, its cone
+  // and the walk to the next point read one 24-byte record (the profile is ~500 kB, read at
+  // random by every traced ray).
+  struct Node {
+    double z, r, slope;
+  };
   // Profile radius at height z (linear between profile points) and the segment index.
   double RadiusAt(double z, int* segment) const;
-  std::vector<double> r_, z_, nr_, nz_;
+  int SegmentAt(double z) const;
+  // The hit at t on the ray, with the profile's interpolated normal there.
+  Hit HitAt(const Ray& ray, double t_hit) const;
+  // The exit found from the profile's quadric fit, refined on the segments' cones; false (and
+  // the bracketing search decides) where that does not settle on one segment.
+  bool ExitByCones(const Vec3& o, const Vec3& d, double t_lo, double t_hi, double* t_exit) const;
+  // The ray o + t d against the cone of segment s (its frustum extended): radius c0 + slope t
+  // d.z along the ray, and the n roots (ascending) of rho^2 - radius^2 = qa t^2 + qb t + qc.
+  struct Cone {
+    double slope, c0, qa, qb;
+    double roots[2];
+    int n;
+    // Whether t is on the cone's nappe of positive radius (not its mirror image).
+    bool UpperNappe(double t, double d_z) const { return c0 + slope * d_z * t >= 0; }
+  };
+  Cone ConeOf(const Vec3& o, const Vec3& d, int s) const;
+  // The exit of the ray from the cone of segment s: the root where rho^2 - radius^2 goes from
+  // negative to positive, on the upper nappe.
+  bool ConeExit(const Vec3& o, const Vec3& d, int s, double* t_exit) const;
+  std::vector<Node> node_;
+  // Whether the profile's radius is concave in z (slopes never rising): then rho - radius is
+  // convex along any ray and its exit root unique, so the first cone root found inside its own
+  // segment is the exit. Both bundled rigs' profiles are.
+  bool concave_ = false;
+  // radius^2 ~ fit_[0] + fit_[1] u + fit_[2] u^2, u = (z - fit_z0_) * fit_u_per_mm_ (least
+  // squares over the profile points): the first guess of the exit.
+  double fit_[3] = {0, 0, 0};
+  double fit_z0_ = 0, fit_u_per_mm_ = 1;
+  std::vector<double> nr_, nz_;
   std::vector<int> bin_first_segment_;  // uniform z bins -> first candidate segment
   double bin_scale_ = 0;
 };

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <vector>
 
 #include "basis/zone.h"
 #include "tests/rig/rig_test_util.h"
@@ -103,6 +106,114 @@ TEST(OpticsTest, DomeHitsLieOnTheDesignedProfile) {
     // The ray from the sample center meets the mirror on its reflecting side.
     EXPECT_LT(Dot(w, hit->normal), 0) << k;
   }
+}
+
+// An independent reference for the dome's exit: the profile radius by a search of the design
+// points, the first sign change of rho - radius marched in 0.1 mm steps from the ray's entry
+// into the dome's height range, then 200 bisection steps. The dome's own search starts from a
+// quadric fit and refines on the segments' cones (a concave profile) or brackets the root by
+// false position; both end on one segment's exact cone.
+struct ReferenceExit {
+  bool hit = false;
+  double t = 0;
+};
+
+double ProfileRadius(const std::vector<DomeProfilePoint>& profile, double z) {
+  size_t lo = 0, hi = profile.size() - 1;
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    (profile[mid].z_mm <= z ? lo : hi) = mid;
+  }
+  const double u = (z - profile[lo].z_mm) / (profile[hi].z_mm - profile[lo].z_mm);
+  return profile[lo].r_mm + u * (profile[hi].r_mm - profile[lo].r_mm);
+}
+
+ReferenceExit MarchToExit(const std::vector<DomeProfilePoint>& profile, const Ray& ray,
+                          double t_min) {
+  const double z_lo = profile.front().z_mm, z_hi = profile.back().z_mm;
+  const Vec3 &o = ray.origin, &d = ray.direction;
+  const double ta = (z_lo - o.z) / d.z, tb = (z_hi - o.z) / d.z;
+  const double t0 = std::max(t_min, std::min(ta, tb)), t1 = std::max(ta, tb);
+  auto g = [&](double t) {
+    const Vec3 p = ray.At(t);
+    return std::hypot(p.x, p.y) - ProfileRadius(profile, std::clamp(p.z, z_lo, z_hi));
+  };
+  ReferenceExit exit;
+  if (!(t0 < t1) || g(t0) > 0) return exit;
+  const int steps = static_cast<int>(std::ceil((t1 - t0) / 0.1));
+  for (int i = 1; i <= steps; ++i) {
+    double a = t0 + (i - 1) * (t1 - t0) / steps, b = t0 + i * (t1 - t0) / steps;
+    if (g(b) < 0) continue;
+    for (int k = 0; k < 200; ++k) (g(0.5 * (a + b)) < 0 ? a : b) = 0.5 * (a + b);
+    exit.hit = true;
+    exit.t = 0.5 * (a + b);
+    return exit;
+  }
+  return exit;
+}
+
+// Rays the dome meets in a simulation: camera rays off the parabola (the transport and the
+// camera map), and rays from points of the sample in all upper directions (the projector grid
+// and map). Fixed seed.
+std::vector<Ray> DomeRays(const OpticalSystem& optics, int count) {
+  std::vector<Ray> rays;
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> u(0, 1);
+  const ThinLens& camera = optics.camera();
+  while (static_cast<int>(rays.size()) < count / 2) {
+    const Ray ray = camera.GenerateRay(u(rng) * camera.params().width,
+                                       u(rng) * camera.params().height, u(rng), u(rng));
+    bool from_above = false;
+    const auto p = optics.parabola().Intersect(ray, 1e-7, &from_above);
+    if (!p || !from_above) continue;
+    rays.push_back({p->point, Normalize(Reflect(ray.direction, p->normal))});
+  }
+  while (static_cast<int>(rays.size()) < count) {
+    const double radius = 20 * std::sqrt(u(rng)), angle = 2 * M_PI * u(rng);
+    const Vec3 w = SphericalDirection(std::acos(std::sqrt(u(rng))), 2 * M_PI * u(rng));
+    rays.push_back({{radius * std::cos(angle), radius * std::sin(angle), 0}, w});
+  }
+  return rays;
+}
+
+void ExpectExitsMatchTheReference(const DomeSurface& dome,
+                                  const std::vector<DomeProfilePoint>& profile,
+                                  const std::vector<Ray>& rays) {
+  int hits = 0;
+  double worst_t = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const auto hit = dome.Intersect(rays[i], 1e-7);
+    const ReferenceExit ref = MarchToExit(profile, rays[i], 1e-7);
+    ASSERT_EQ(hit.has_value(), ref.hit) << "ray " << i;
+    if (!hit) continue;
+    ++hits;
+    // The reference's bisection ends at rounding (~1e-13 mm); the exact cone root at 1e-12.
+    worst_t = std::max(worst_t, std::abs(hit->t - ref.t));
+    const double r = std::hypot(hit->point.x, hit->point.y);
+    EXPECT_NEAR(r, ProfileRadius(profile, hit->point.z), 1e-9) << "ray " << i;
+  }
+  EXPECT_GT(hits, static_cast<int>(rays.size()) / 3);
+  EXPECT_LT(worst_t, 1e-9);
+}
+
+TEST(OpticsTest, DomeExitIsTheFirstCrossingOfTheProfile) {
+  for (const char* name : {"thesis.yaml", "full-dome.yaml"}) {
+    SCOPED_TRACE(name);
+    const OpticalSystem optics(LoadRig(testing::SourceRig(name)));
+    ExpectExitsMatchTheReference(optics.dome(), optics.design().profile, DomeRays(optics, 2000));
+  }
+}
+
+TEST(OpticsTest, DomeExitOfAProfileThatIsNotConcave) {
+  // The thesis profile with a shallow dent (0.02 mm deep, 8 mm tall) in its radius: no longer
+  // concave, so the exit is searched by bracketing alone; still the same exits as the reference.
+  const OpticalSystem optics(LoadRig(testing::SourceRig("thesis.yaml")));
+  DomeDesign dented = optics.design();
+  for (DomeProfilePoint& p : dented.profile) {
+    const double x = (p.z_mm - 150) / 4;
+    if (std::abs(x) < 1) p.r_mm -= 0.02 * (1 + std::cos(M_PI * x)) / 2;
+  }
+  ExpectExitsMatchTheReference(DomeSurface(dented), dented.profile, DomeRays(optics, 2000));
 }
 
 TEST(OpticsTest, ThinLensProjectionInvertsRayGeneration) {
