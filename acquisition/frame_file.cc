@@ -1,5 +1,6 @@
 #include "acquisition/frame_file.h"
 
+#include <bit>
 #include <cstdio>
 #include <sstream>
 #include <string_view>
@@ -16,11 +17,25 @@ namespace zbrdf {
 namespace {
 
 constexpr char kDescriptionPrefix[] = "zbrdf raw frame: ";
-constexpr char kSamplesKey[] = ", samples fnv1a64:";
+constexpr char kSamplesKey[] = ", samples xxh3-64:";
+constexpr char kSamplesKeyFnv1a[] = ", samples fnv1a64:";  // frames written before XXH3
 
 }  // namespace
 
 uint64_t FrameSamplesChecksum(const std::vector<uint16_t>& samples) {
+  if constexpr (std::endian::native == std::endian::little) {
+    return Xxh3_64(samples.data(), samples.size() * sizeof(uint16_t));
+  } else {
+    std::vector<unsigned char> bytes(2 * samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+      bytes[2 * i] = static_cast<unsigned char>(samples[i] & 0xff);
+      bytes[2 * i + 1] = static_cast<unsigned char>(samples[i] >> 8);
+    }
+    return Xxh3_64(bytes.data(), bytes.size());
+  }
+}
+
+uint64_t FrameSamplesFnv1a64(const std::vector<uint16_t>& samples) {
   uint64_t h = kFnv1a64Offset;
   for (uint16_t v : samples) {
     const unsigned char bytes[2] = {static_cast<unsigned char>(v & 0xff),
@@ -136,15 +151,25 @@ bool ReadPngFrame(const std::string& bytes, int width, int height, std::vector<u
   }
 }
 
-// The checksum a frame file's ImageDescription records: true and *checksum for a frame written
-// with one; true and *has_checksum false for a frame of an earlier version (the description
-// without it, or none); false for a description that is neither (damaged).
-bool ParseDescription(const std::string& description, bool* has_checksum, uint64_t* checksum) {
-  *has_checksum = false;
+// The checksum a frame file's ImageDescription records: true, *checksum and its algorithm for a
+// frame written with one (XXH3, or FNV-1a before XXH3); true and kNone for a frame of an earlier
+// version (the description without it, or none); false for a description that is neither
+// (damaged).
+enum class SamplesHash { kNone, kXxh3, kFnv1a };
+
+bool ParseDescription(const std::string& description, SamplesHash* hash, uint64_t* checksum) {
+  *hash = SamplesHash::kNone;
   if (description.empty()) return true;
   const std::string prefix = kDescriptionPrefix;
   if (description.compare(0, prefix.size(), prefix) != 0) return false;
-  const size_t at = description.find(kSamplesKey);
+  size_t at = description.find(kSamplesKey);
+  size_t key_size = std::string_view(kSamplesKey).size();
+  SamplesHash found = SamplesHash::kXxh3;
+  if (at == std::string::npos) {
+    at = description.find(kSamplesKeyFnv1a);
+    key_size = std::string_view(kSamplesKeyFnv1a).size();
+    found = SamplesHash::kFnv1a;
+  }
   if (at == std::string::npos) {
     // Earlier versions: "zbrdf raw frame: layout L, N significant bits, exposure E us".
     char layout[32];
@@ -156,11 +181,11 @@ bool ParseDescription(const std::string& description, bool* has_checksum, uint64
                        &exposure, &consumed) == 3 &&
            prefix.size() + consumed == description.size();
   }
-  const std::string hex = description.substr(at + std::string(kSamplesKey).size());
+  const std::string hex = description.substr(at + key_size);
   if (hex.size() != 16 || hex.find_first_not_of("0123456789abcdef") != std::string::npos) {
     return false;
   }
-  *has_checksum = true;
+  *hash = found;
   *checksum = std::stoull(hex, nullptr, 16);
   return true;
 }
@@ -185,20 +210,25 @@ std::vector<uint16_t> DecodeFrameFile(const std::string& bytes, int width, int h
     throw InputError(what + " is not the " + std::to_string(width) + "x" + std::to_string(height) +
                      " 16-bit single-channel image its journal line describes");
   }
-  bool has_checksum = false;
+  SamplesHash hash = SamplesHash::kNone;
   uint64_t checksum = 0;
-  if (!ParseDescription(description, &has_checksum, &checksum)) {
+  if (!ParseDescription(description, &hash, &checksum)) {
     throw InputError(what + " is damaged: its TIFF ImageDescription is not a zbrdf frame's");
   }
-  if (has_checksum && FrameSamplesChecksum(samples) != checksum) {
-    char text[96];
-    std::snprintf(text, sizeof(text), " (fnv1a64:%016llx, the file records fnv1a64:%016llx)",
-                  static_cast<unsigned long long>(FrameSamplesChecksum(samples)),
-                  static_cast<unsigned long long>(checksum));
-    throw InputError(what +
-                     " is damaged: its samples do not match the checksum the file "
-                     "records" +
-                     text);
+  if (hash != SamplesHash::kNone) {
+    const bool xxh3 = hash == SamplesHash::kXxh3;
+    const uint64_t actual = xxh3 ? FrameSamplesChecksum(samples) : FrameSamplesFnv1a64(samples);
+    if (actual != checksum) {
+      const char* name = xxh3 ? "xxh3-64" : "fnv1a64";
+      char text[96];
+      std::snprintf(text, sizeof(text), " (%s:%016llx, the file records %s:%016llx)", name,
+                    static_cast<unsigned long long>(actual), name,
+                    static_cast<unsigned long long>(checksum));
+      throw InputError(what +
+                       " is damaged: its samples do not match the checksum the file "
+                       "records" +
+                       text);
+    }
   }
   return samples;
 }

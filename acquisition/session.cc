@@ -116,10 +116,24 @@ std::vector<std::string> UnexpectedContents(const std::string& path) {
 
 }  // namespace
 
+std::string FrameFileChecksum(std::string_view bytes) {
+  char out[32];
+  std::snprintf(out, sizeof(out), "xxh3-64:%016llx",
+                static_cast<unsigned long long>(Xxh3_64(bytes)));
+  return out;
+}
+
+bool FrameFileChecksumMatches(const std::string& recorded, std::string_view bytes) {
+  if (recorded.rfind("xxh3-64:", 0) == 0) return recorded == FrameFileChecksum(bytes);
+  // Journals written before XXH3.
+  if (recorded.rfind("fnv1a64:", 0) == 0) return recorded == Checksum(std::string(bytes));
+  return false;
+}
+
 std::string FileChecksum(const std::string& path) {
   bool ok = true;
   const std::string bytes = ReadBytes(path, &ok);
-  return ok ? Checksum(bytes) : std::string();
+  return ok ? FrameFileChecksum(bytes) : std::string();
 }
 
 nlohmann::json JournalEntry::ToJson() const {
@@ -473,7 +487,7 @@ JournalEntry SessionFolder::WriteFrame(int index, const Frame& frame) {
   JournalEntry e;
   e.index = index;
   e.file = name;
-  e.checksum = Checksum(bytes);
+  e.checksum = FrameFileChecksum(bytes);
   e.width = frame.width;
   e.height = frame.height;
   e.bit_depth = frame.bit_depth;
@@ -533,7 +547,9 @@ JournalReading SessionFolder::ReadJournalLines() const {
 }
 
 bool SessionFolder::FrameIsIntact(const JournalEntry& entry) const {
-  return FileChecksum(SessionPath(path_, entry.file)) == entry.checksum;
+  bool ok = true;
+  const std::string bytes = ReadBytes(SessionPath(path_, entry.file), &ok);
+  return ok && FrameFileChecksumMatches(entry.checksum, bytes);
 }
 
 Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
@@ -541,7 +557,7 @@ Frame SessionFolder::ReadFrame(const JournalEntry& entry) const {
   bool ok = true;
   const std::string bytes = ReadBytes(path, &ok);
   if (!ok) throw InputError("frame " + path + " is missing; resume the capture to take it again");
-  if (Checksum(bytes) != entry.checksum) {
+  if (!FrameFileChecksumMatches(entry.checksum, bytes)) {
     throw InputError("frame " + path + " does not match its journal checksum (truncated or "
                      "corrupt); resume the capture to take it again");
   }

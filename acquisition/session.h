@@ -6,7 +6,7 @@
 //   frames/         raw frames, lossless 16-bit TIFF/zstd (frame_file.h), f<index>.tiff
 //                   (index: the plan's frame index); each records the checksum of its samples
 //   journal.jsonl   one JSON line per frame written: index, lobe, exposure (requested, actual),
-//                   repeat, frame id, timestamps, file, FNV-1a checksum of the file, session id,
+//                   repeat, frame id, timestamps, file, XXH3 checksum of the file, session id,
 //                   and the line's own check
 //   hdr/            HDR image per lobe (RGB half-float OpenEXR, for viewing)
 //   zonal.exr       the zonal coefficients (acquisition/zonal.h)
@@ -28,6 +28,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -115,7 +116,7 @@ struct JournalEntry {
   int64_t timestamp_us = 0;  // on the session's clock
   std::string wall_time;     // UTC, ISO 8601
   std::string file;          // relative to the session folder
-  std::string checksum;      // "fnv1a64:<16 hex digits>" of the file's bytes
+  std::string checksum;      // "xxh3-64:<16 hex digits>" of the file's bytes ("fnv1a64:" before)
   int width = 0, height = 0, bit_depth = 0;
   std::string layout;
   std::string session_id;  // session.json "session_id" ("" in journals of earlier versions)
@@ -220,7 +221,13 @@ std::string MoveSessionFolderAside(const std::string& path);
 std::string JournalEntryMismatch(const JournalEntry& entry, const CapturePlan& plan,
                                  const std::string& session_id, bool exposures_planned);
 
-// FNV-1a 64-bit checksum of a file's bytes, "fnv1a64:<hex>"; "" if unreadable.
+// The checksum a journal line records for a frame file's bytes: XXH3 64-bit,
+// "xxh3-64:<16 hex digits>" (basis/hash.h).
+std::string FrameFileChecksum(std::string_view bytes);
+// Whether bytes match a recorded checksum: "xxh3-64:<hex>", or "fnv1a64:<hex>" (FNV-1a 64, what
+// journals written before XXH3 record).
+bool FrameFileChecksumMatches(const std::string& recorded, std::string_view bytes);
+// FrameFileChecksum of a file's bytes; "" if unreadable.
 std::string FileChecksum(const std::string& path);
 
 struct CaptureOptions {

@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libceres-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-highgui-dev
   libopenexr-dev libtiff-dev libspng-dev nlohmann-json3-dev libyaml-cpp-dev zlib1g-dev
+  libxxhash-dev
   libaravis-dev aravis-tools libusb-1.0-0-dev libx11-dev libxrandr-dev
   libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-numpy

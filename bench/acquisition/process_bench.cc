@@ -14,6 +14,7 @@
 #include "acquisition/hdr.h"
 #include "acquisition/session.h"
 #include "basis/data_path.h"
+#include "basis/hash.h"
 #include "brdf/material_spec.h"
 #include "simulate/virtual_rig.h"
 
@@ -95,6 +96,23 @@ void BM_FrameDecode(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FrameDecode)->Unit(benchmark::kMillisecond);
+
+// What a frame's checksums cost on the frame writer's thread: the samples' (ImageDescription)
+// and the file's (the journal line). Argument 0: FNV-1a 64 (frames written before XXH3),
+// 1: XXH3 64.
+void BM_FrameChecksum(benchmark::State& state) {
+  const Frame frame = FirstLobeFrames()[2];
+  const std::string bytes = EncodeFrameFile(frame);
+  const bool xxh3 = state.range(0) == 1;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(xxh3 ? FrameSamplesChecksum(frame.data)
+                                  : FrameSamplesFnv1a64(frame.data));
+    benchmark::DoNotOptimize(xxh3 ? Xxh3_64(bytes) : Fnv1a64(bytes));
+  }
+  state.SetBytesProcessed(state.iterations() *
+                          static_cast<int64_t>(frame.data.size() * 2 + bytes.size()));
+}
+BENCHMARK(BM_FrameChecksum)->ArgName("xxh3")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // One lobe's 3-exposure bracket at 1360 x 1024.
 void BM_MergeExposures(benchmark::State& state) {

@@ -153,15 +153,45 @@ std::string EncodeLikeEarlierVersions(const Frame& f) {
 }
 
 TEST(FrameFile, EveryFrameRecordsTheChecksumOfItsSamples) {
-  // FNV-1a 64 of the samples as little-endian words: {0x6261} is the bytes "ab".
-  EXPECT_EQ(FrameSamplesChecksum({}), kFnv1a64Offset);
-  EXPECT_EQ(FrameSamplesChecksum({0x6261}), Fnv1a64("ab"));
+  // XXH3 64 of the samples as little-endian words: {0x6261} is the bytes "ab" (xxhsum -H3 of a
+  // file holding "ab" prints a873719c24d5735c; of an empty one, the specification's
+  // 2d06800538d394c2). The FNV-1a 64 of frames written before XXH3 over the same bytes.
+  EXPECT_EQ(FrameSamplesChecksum({}), 0x2d06800538d394c2ull);
+  EXPECT_EQ(FrameSamplesChecksum({0x6261}), 0xa873719c24d5735cull);
+  EXPECT_EQ(FrameSamplesFnv1a64({}), kFnv1a64Offset);
+  EXPECT_EQ(FrameSamplesFnv1a64({0x6261}), Fnv1a64("ab"));
   const Frame f = RandomFrame(64, 48, 12, 21);
   const std::string bytes = EncodeFrameFile(f);
   char expected[80];
-  std::snprintf(expected, sizeof(expected), "exposure 1234.500 us, samples fnv1a64:%016llx",
+  std::snprintf(expected, sizeof(expected), "exposure 1234.500 us, samples xxh3-64:%016llx",
                 static_cast<unsigned long long>(FrameSamplesChecksum(f.data)));
   EXPECT_NE(bytes.find(expected), std::string::npos) << "ImageDescription records the checksum";
+}
+
+// Frames written before XXH3 record "samples fnv1a64:<hex>": they read, checked with FNV-1a.
+TEST(FrameFile, FramesRecordingFnv1aBeforeXxh3AreCheckedWithIt) {
+  const Frame f = RandomFrame(64, 48, 12, 23);
+  const std::string bytes = EncodeFrameFile(f);
+  const size_t at = bytes.find("samples xxh3-64:");
+  ASSERT_NE(at, std::string::npos);
+  char fnv[40];
+  std::snprintf(fnv, sizeof(fnv), "samples fnv1a64:%016llx",
+                static_cast<unsigned long long>(FrameSamplesFnv1a64(f.data)));
+  std::string old = bytes;
+  old.replace(at, std::string(fnv).size(), fnv);  // the same length: the TIFF stays valid
+  EXPECT_EQ(DecodeFrameFile(old, 64, 48, "old frame"), f.data);
+  std::string wrong = old;
+  char& digit = wrong[at + std::string(fnv).size() - 1];
+  digit = digit == '0' ? '1' : '0';  // another hex digit
+  try {
+    DecodeFrameFile(wrong, 64, 48, "frame f000003.tiff");
+    FAIL() << "samples that do not match the recorded FNV-1a checksum were read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame f000003.tiff is damaged: its samples do not "
+                                         "match the checksum the file records (fnv1a64:"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // Issue 15: "a bit flip inside a frame whose journal checksum is recomputed passes silently".
@@ -193,7 +223,7 @@ TEST(FrameFile, BitFlipsInsideAFrameAreFoundFromTheFileAlone) {
   Frame other = f;
   other.data[5] ^= 1;
   const std::string other_bytes = EncodeFrameFile(other);
-  const size_t a = bytes.find("fnv1a64:"), b = other_bytes.find("fnv1a64:");
+  const size_t a = bytes.find("xxh3-64:"), b = other_bytes.find("xxh3-64:");
   ASSERT_NE(a, std::string::npos);
   std::string swapped = bytes;
   swapped.replace(a, 24, other_bytes.substr(b, 24));
@@ -211,7 +241,7 @@ TEST(FrameFile, BitFlipsInsideAFrameAreFoundFromTheFileAlone) {
 TEST(FrameFile, FramesOfEarlierVersionsWithoutTheChecksumStillRead) {
   const Frame f = RandomFrame(40, 30, 12, 8);
   const std::string old = EncodeLikeEarlierVersions(f);
-  ASSERT_EQ(old.find("fnv1a64"), std::string::npos);
+  ASSERT_EQ(old.find("samples"), std::string::npos);
   EXPECT_EQ(DecodeFrameFile(old, 40, 30, "old frame"), f.data);
 }
 

@@ -1,16 +1,17 @@
 #include "acquisition/session.h"
 
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
-#include <gtest/gtest.h>
-
 #include "basis/atomic_file.h"
 #include "basis/error.h"
+#include "basis/hash.h"
 #include "tests/acquisition/acquisition_test_util.h"
 #include "tests/test_files.h"
 
@@ -29,18 +30,57 @@ std::string Slurp(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-TEST(Session, Fnv1aChecksumMatchesPublishedVectors) {
-  // FNV-1a 64 test vectors (Fowler, Noll, Vo: offset basis and "a", "foobar").
-  const std::string dir = TempDir("fnv");
+TEST(Session, Fnv1aMatchesPublishedVectors) {
+  // FNV-1a 64 test vectors (Fowler, Noll, Vo: offset basis and "a", "foobar"): the hash of
+  // journal lines, and of frame files in journals written before XXH3.
+  EXPECT_EQ(Fnv1a64(""), 0xcbf29ce484222325ull);
+  EXPECT_EQ(Fnv1a64("a"), 0xaf63dc4c8601ec8cull);
+  EXPECT_EQ(Fnv1a64("foobar"), 0x85944171f73967e8ull);
+}
+
+TEST(Session, FrameFileChecksumIsXxh3OfTheFile) {
+  // XXH3 64 (seed 0) of "" as the xxHash specification gives it, and of "a" and "foobar" as
+  // xxHash's own command-line tool prints them (xxhsum -H3 of files holding those bytes).
+  const std::string dir = TempDir("xxh3");
   fs::create_directories(dir);
-  const std::pair<std::string, std::string> vectors[] = {{"", "cbf29ce484222325"},
-                                                         {"a", "af63dc4c8601ec8c"},
-                                                         {"foobar", "85944171f73967e8"}};
+  const std::pair<std::string, std::string> vectors[] = {
+      {"", "2d06800538d394c2"}, {"a", "e6c632b61e964e1f"}, {"foobar", "d78fda63144c5c84"}};
   for (const auto& [text, hex] : vectors) {
     WriteFileAtomically(dir + "/f", text);
-    EXPECT_EQ(FileChecksum(dir + "/f"), "fnv1a64:" + hex) << '"' << text << '"';
+    EXPECT_EQ(FileChecksum(dir + "/f"), "xxh3-64:" + hex) << '"' << text << '"';
+    EXPECT_EQ(FrameFileChecksum(text), "xxh3-64:" + hex);
+    EXPECT_TRUE(FrameFileChecksumMatches("xxh3-64:" + hex, text));
   }
   EXPECT_EQ(FileChecksum(dir + "/missing"), "");
+  // What journals written before XXH3 record is checked with FNV-1a; anything else never matches.
+  EXPECT_TRUE(FrameFileChecksumMatches("fnv1a64:85944171f73967e8", "foobar"));
+  EXPECT_FALSE(FrameFileChecksumMatches("fnv1a64:85944171f73967e9", "foobar"));
+  EXPECT_FALSE(FrameFileChecksumMatches("xxh3-64:d78fda63144c5c85", "foobar"));
+  EXPECT_FALSE(FrameFileChecksumMatches("d78fda63144c5c84", "foobar"));
+  EXPECT_FALSE(FrameFileChecksumMatches("", ""));
+  fs::remove_all(dir);
+}
+
+TEST(Session, FramesJournaledWithFnv1aBeforeXxh3StillRead) {
+  // A session written before XXH3: its journal lines record FNV-1a 64 of the frame files.
+  const std::string dir = TempDir("fnv-journal");
+  SessionFolder s = SessionFolder::Create(dir, nlohmann::json::object());
+  JournalEntry e = s.WriteFrame(0, SmallFrame(42));
+  char fnv[32];
+  std::snprintf(fnv, sizeof(fnv), "fnv1a64:%016llx",
+                static_cast<unsigned long long>(Fnv1a64(Slurp(dir + "/" + e.file))));
+  e.checksum = fnv;
+  s.AppendJournal(e);
+  const std::vector<JournalEntry> journal = SessionFolder::Open(dir).ReadJournal();
+  ASSERT_EQ(journal.size(), 1u);
+  EXPECT_EQ(journal[0].checksum, fnv);
+  EXPECT_TRUE(s.FrameIsIntact(journal[0]));
+  EXPECT_EQ(s.ReadFrame(journal[0]).data, SmallFrame(42).data);
+  // A wrong FNV-1a checksum is damage, as a wrong XXH3 one is.
+  JournalEntry wrong = journal[0];
+  wrong.checksum.back() = wrong.checksum.back() == '0' ? '1' : '0';
+  EXPECT_FALSE(s.FrameIsIntact(wrong));
+  EXPECT_THROW(s.ReadFrame(wrong), InputError);
   fs::remove_all(dir);
 }
 
