@@ -192,14 +192,21 @@ LayerWeights<T> Transposed(const NbrdfNetwork::Layer& layer) {
 }
 
 // The network's three layers (ReLU, ReLU, linear) on tiles of kWidth pairs, rows `stride` apart.
+// channel >= 0: the last layer's neuron of that output only (each output is one neuron there).
 template <typename T, int kWidth>
 [[gnu::always_inline]] inline void ThreeLayers(const std::array<LayerWeights<T>, 3>& layers,
                                                const T* x, T* a1, T* a2, T* y, int stride,
-                                               int tiles) {
+                                               int tiles, int channel = -1) {
   const auto& [l1, l2, l3] = layers;
   Dense<T, kWidth>(l1.in, l1.out, l1.w_t.data(), l1.bias.data(), x, a1, stride, tiles, true);
   Dense<T, kWidth>(l2.in, l2.out, l2.w_t.data(), l2.bias.data(), a1, a2, stride, tiles, true);
-  Dense<T, kWidth>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, stride, tiles, false);
+  if (channel >= 0) {
+    Dense<T, kWidth>(l3.in, 1, l3.w_t.data() + static_cast<size_t>(channel) * l3.in,
+                     l3.bias.data() + channel, a2, y + static_cast<size_t>(channel) * stride,
+                     stride, tiles, false);
+  } else {
+    Dense<T, kWidth>(l3.in, l3.out, l3.w_t.data(), l3.bias.data(), a2, y, stride, tiles, false);
+  }
 }
 
 // The three layers of a block. Compiled twice, for x86-64 (SSE2) and for AVX2, and the version
@@ -218,8 +225,8 @@ void EvaluateLayers(const std::array<LayerWeights<double>, 3>& layers, const dou
 __attribute__((target_clones("avx2", "default")))
 #endif
 void EvaluateLayersFloat(const std::array<LayerWeights<float>, 3>& layers, const float* x,
-                         float* a1, float* a2, float* y, int tiles) {
-  ThreeLayers<float, kTile>(layers, x, a1, a2, y, kBlock, tiles);
+                         float* a1, float* a2, float* y, int tiles, int channel) {
+  ThreeLayers<float, kTile>(layers, x, a1, a2, y, kBlock, tiles, channel);
 }
 
 }  // namespace
@@ -377,8 +384,8 @@ Rgb OutputRgb(const T* y, int k) {
 }  // namespace
 
 template <typename T>
-const T* NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* scratch,
-                              bool* valid) const {
+const T* NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* scratch, bool* valid,
+                              int channel) const {
   // Structure-of-arrays scratch: each row holds one feature for the kBlock pairs. Rows past
   // `count` and of pairs below the horizon hold stale finite values; their results are dropped.
   const int hidden1 = network_.layers[0].out, hidden2 = network_.layers[1].out;
@@ -389,8 +396,9 @@ const T* NbrdfBrdf::EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* sc
   for (int k = 0; k < count; ++k) valid[k] = NetworkInput(w_i[k], w_o[k], x + k, kBlock);
   const int tiles = (count + kTile - 1) / kTile;
   if constexpr (std::is_same_v<T, float>) {
-    EvaluateLayersFloat(weights_float_, x, a1, a2, y, tiles);
+    EvaluateLayersFloat(weights_float_, x, a1, a2, y, tiles, channel);
   } else {
+    ZBRDF_ASSERT(channel < 0, "EvalBlock: one channel is single precision's only");
     EvaluateLayers(weights_, x, a1, a2, y, tiles);
   }
   return y;
@@ -405,15 +413,15 @@ Rgb NbrdfBrdf::Eval(const Vec3& w_i, const Vec3& w_o) const {
 }
 
 template <typename T, typename Out>
-void NbrdfBrdf::EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o,
-                            const Out& out) const {
+void NbrdfBrdf::EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o, const Out& out,
+                            int channel) const {
   ZBRDF_ASSERT(w_i.size() == w_o.size(), "EvalBatch size mismatch");
   const size_t rows = kInputs + network_.layers[0].out + network_.layers[1].out + kOutputs;
   std::vector<T> scratch(rows * kBlock, T(0));
   bool valid[kBlock];
   for (size_t start = 0; start < w_i.size(); start += kBlock) {
     const int count = static_cast<int>(std::min<size_t>(kBlock, w_i.size() - start));
-    const T* y = EvalBlock(&w_i[start], &w_o[start], count, scratch.data(), valid);
+    const T* y = EvalBlock(&w_i[start], &w_o[start], count, scratch.data(), valid, channel);
     out(start, count, y, valid);
   }
 }
@@ -454,10 +462,14 @@ void NbrdfBrdf::EvalChannelBatchSinglePrecision(std::span<const Vec3> w_i,
     });
     return;
   }
-  EvalBatchIn<float>(w_i, w_o, [&](size_t start, int count, const float* y, const bool* valid) {
-    const float* row = y + channel * kBlock;
-    for (int k = 0; k < count; ++k) value[start + k] = valid[k] ? OutputMap(row[k]) : 0.0;
-  });
+  // Only the channel's output neuron (the last layer is a seventh of the network's work).
+  EvalBatchIn<float>(
+      w_i, w_o,
+      [&](size_t start, int count, const float* y, const bool* valid) {
+        const float* row = y + channel * kBlock;
+        for (int k = 0; k < count; ++k) value[start + k] = valid[k] ? OutputMap(row[k]) : 0.0;
+      },
+      channel);
 }
 
 }  // namespace zbrdf

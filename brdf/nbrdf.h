@@ -92,11 +92,14 @@ class NbrdfBrdf final : public ProxySampledBrdf {
             std::shared_ptr<const HalfVectorProxySampler> sampler);
   // Evaluates count pairs (at most one block) using scratch from EvalBatchIn: the network's
   // outputs y (row c: channel c of the pairs), and valid[k] false for pairs below the horizon.
+  // channel >= 0: only that row of y is computed (the others hold stale values).
   template <typename T>
-  const T* EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* scratch, bool* valid) const;
+  const T* EvalBlock(const Vec3* w_i, const Vec3* w_o, int count, T* scratch, bool* valid,
+                     int channel = -1) const;
   // Blocks of EvalBlock; `out(start, count, y, valid)` maps each block's outputs.
   template <typename T, typename Out>
-  void EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o, const Out& out) const;
+  void EvalBatchIn(std::span<const Vec3> w_i, std::span<const Vec3> w_o, const Out& out,
+                   int channel = -1) const;
 
   NbrdfNetwork network_;
   std::array<LayerWeights<double>, 3> weights_;

@@ -74,11 +74,16 @@ Paraboloid::Paraboloid(const ParabolaParams& params, const Misalignment& misalig
   pose_ = TiltedPose({1, 0, 0}, {0, 1, 0}, {0, 0, 1},
                      Vec3{0, 0, params.vertex_height_mm} + misalignment.parabola_offset_mm,
                      misalignment.parabola_tilt_deg[0], misalignment.parabola_tilt_deg[1]);
+  untilted_ = pose_.x_axis == Vec3{1, 0, 0} && pose_.y_axis == Vec3{0, 1, 0} &&
+              pose_.z_axis == Vec3{0, 0, 1};
 }
 
 std::optional<Hit> Paraboloid::Intersect(const Ray& ray, double t_min, bool* from_above) const {
-  const Vec3 o = pose_.PointToLocal(ray.origin);
-  const Vec3 d = pose_.DirectionToLocal(ray.direction);
+  // Untilted (the design, or a misalignment that only shifts it), the local frame is the
+  // world's moved: the rotations' products by 1 and 0 left out give the same values (every
+  // camera and projector ray crosses the parabola twice).
+  const Vec3 o = untilted_ ? ray.origin - pose_.translation : pose_.PointToLocal(ray.origin);
+  const Vec3 d = untilted_ ? ray.direction : pose_.DirectionToLocal(ray.direction);
   // x^2 + y^2 + 4 f z = 0 along o + t d.
   const double a = d.x * d.x + d.y * d.y;
   const double b = 2 * (o.x * d.x + o.y * d.y) + 4 * focal_mm_ * d.z;
@@ -96,8 +101,8 @@ std::optional<Hit> Paraboloid::Intersect(const Ray& ray, double t_min, bool* fro
     if (!above) normal = -normal;
     Hit hit;
     hit.t = t;
-    hit.point = pose_.PointToWorld(p);
-    hit.normal = pose_.DirectionToWorld(normal);
+    hit.point = untilted_ ? p + pose_.translation : pose_.PointToWorld(p);
+    hit.normal = untilted_ ? normal : pose_.DirectionToWorld(normal);
     return hit;
   }
   return std::nullopt;

@@ -64,6 +64,7 @@ class Paraboloid {
  private:
   double focal_mm_, rim_radius_mm_;
   Pose pose_;
+  bool untilted_ = false;  // the pose's axes are exactly the world's
 };
 
 // The dome: a concave surface of revolution about the z axis, reflecting on its inner side.

@@ -81,6 +81,20 @@ void BM_EvalBatch(benchmark::State& state, const char* spec, bool single_precisi
   SetPerPair(state);
 }
 
+// One channel in single precision: what the transport build evaluates per sample (the pixel's
+// Bayer channel).
+void BM_EvalChannelBatch(benchmark::State& state, const char* spec) {
+  const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
+  const Pairs& pairs = RandomPairs();
+  std::vector<double> value(kPairs);
+  for (auto _ : state) {
+    brdf->EvalChannelBatchSinglePrecision(pairs.w_i, pairs.w_o, 1, value);
+    benchmark::DoNotOptimize(value.data());
+    benchmark::ClobberMemory();
+  }
+  SetPerPair(state);
+}
+
 // Sample() then Eval() at the sample: what a path tracer or the simulator pays per bounce.
 void BM_SampleAndEval(benchmark::State& state, const char* spec) {
   const std::unique_ptr<Brdf> brdf = MakeBrdf(spec);
@@ -105,6 +119,7 @@ BENCHMARK_CAPTURE(BM_Eval, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillis
 BENCHMARK_CAPTURE(BM_EvalBatch, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EvalBatch, nbrdf_chrome_single_precision, "merl:chrome", true)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EvalChannelBatch, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SampleAndEval, ggx, "ggx:alpha_x=0.2,alpha_y=0.3,F0=0.04,kd=0.1")
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SampleAndEval, nbrdf_chrome, "merl:chrome")->Unit(benchmark::kMillisecond);
