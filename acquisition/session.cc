@@ -51,7 +51,7 @@ std::string ReadBytes(const std::string& path, bool* ok) {
   return s.str();
 }
 
-std::string Checksum(const std::string& bytes) {
+std::string Checksum(std::string_view bytes) {
   const uint64_t h = Fnv1a64(bytes);
   char out[32];
   std::snprintf(out, sizeof(out), "fnv1a64:%016llx", static_cast<unsigned long long>(h));
@@ -126,7 +126,7 @@ std::string FrameFileChecksum(std::string_view bytes) {
 bool FrameFileChecksumMatches(const std::string& recorded, std::string_view bytes) {
   if (recorded.rfind("xxh3-64:", 0) == 0) return recorded == FrameFileChecksum(bytes);
   // Journals written before XXH3.
-  if (recorded.rfind("fnv1a64:", 0) == 0) return recorded == Checksum(std::string(bytes));
+  if (recorded.rfind("fnv1a64:", 0) == 0) return recorded == Checksum(bytes);
   return false;
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
+
 #include "basis/error.h"
 #include "basis/zone.h"
 
@@ -122,28 +124,19 @@ DomeSurface::DomeSurface(const DomeDesign& design) {
   node_.back().slope = node_[node_.size() - 2].slope;
   concave_ = true;
   for (size_t s = 1; s + 1 < node_.size(); ++s) concave_ &= node_[s].slope <= node_[s - 1].slope;
-  // The quadric fit, on u in [-1, 1]: normal equations of 3 unknowns, solved by elimination.
+  // The quadric fit, on u in [-1, 1]: least squares of r^2 on 1, u, u^2.
   fit_z0_ = 0.5 * (node_.front().z + node_.back().z);
   fit_u_per_mm_ = 2 / std::max(1e-9, node_.back().z - node_.front().z);
-  double m[3][4] = {};
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   for (const Node& n : node_) {
-    const double u = (n.z - fit_z0_) * fit_u_per_mm_, basis[3] = {1, u, u * u};
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) m[i][j] += basis[i] * basis[j];
-      m[i][3] += basis[i] * n.r * n.r;
-    }
+    const double u = (n.z - fit_z0_) * fit_u_per_mm_;
+    const Eigen::Vector3d basis(1, u, u * u);
+    normal += basis * basis.transpose();
+    rhs += n.r * n.r * basis;
   }
-  for (int k = 0; k < 3; ++k) {
-    for (int i = k + 1; i < 3; ++i) {
-      const double f = m[i][k] / m[k][k];
-      for (int j = k; j < 4; ++j) m[i][j] -= f * m[k][j];
-    }
-  }
-  for (int k = 2; k >= 0; --k) {
-    double v = m[k][3];
-    for (int j = k + 1; j < 3; ++j) v -= m[k][j] * fit_[j];
-    fit_[k] = v / m[k][k];
-  }
+  const Eigen::Vector3d fit = normal.ldlt().solve(rhs);
+  for (int k = 0; k < 3; ++k) fit_[k] = fit(k);
   // A profile of fewer than three distinct heights has no quadric: the bracketing search only.
   if (!(std::isfinite(fit_[0]) && std::isfinite(fit_[1]) && std::isfinite(fit_[2]))) {
     concave_ = false;
@@ -162,11 +155,7 @@ DomeSurface::DomeSurface(const DomeDesign& design) {
 }
 
 double DomeSurface::RadiusAt(double z, int* segment) const {
-  const int last_segment = static_cast<int>(node_.size()) - 2;
-  int bin = static_cast<int>((z - node_.front().z) * bin_scale_);
-  bin = std::clamp(bin, 0, static_cast<int>(bin_first_segment_.size()) - 1);
-  int s = bin_first_segment_[bin];
-  while (s < last_segment && node_[s + 1].z < z) ++s;
+  const int s = SegmentAt(z);
   *segment = s;
   // The segment's slope rather than a division by its height (RadiusAt runs ~9 times per ray).
   return node_[s].r + (z - node_[s].z) * node_[s].slope;
@@ -181,6 +170,10 @@ int DomeSurface::SegmentAt(double z) const {
   return s;
 }
 
+bool DomeSurface::InSegment(int s, double z) const {
+  return z >= node_[s].z - 1e-9 && z <= node_[s + 1].z + 1e-9;
+}
+
 DomeSurface::Cone DomeSurface::ConeOf(const Vec3& o, const Vec3& d, int s) const {
   Cone cone;
   cone.slope = node_[s].slope;
@@ -193,7 +186,7 @@ DomeSurface::Cone DomeSurface::ConeOf(const Vec3& o, const Vec3& d, int s) const
 }
 
 bool DomeSurface::ConeExit(const Vec3& o, const Vec3& d, int s, double* t_exit) const {
-  // The bracketing search's final solve too, so that both give the same root.
+  // ConeOf is the bracketing search's final solve too, so that both give the same root.
   const Cone cone = ConeOf(o, d, s);
   for (int i = 0; i < cone.n; ++i) {
     const double t = cone.roots[i];
@@ -230,7 +223,7 @@ bool DomeSurface::ExitByCones(const Vec3& o, const Vec3& d, double t_lo, double 
     if (!ConeExit(o, d, s, &t_cone)) return false;
     if (t_cone < t_lo - tolerance || t_cone > t_hi + tolerance) return false;
     const double z = o.z + t_cone * d.z;
-    if (z >= node_[s].z - 1e-9 && z <= node_[s + 1].z + 1e-9) {
+    if (InSegment(s, z)) {
       *t_exit = t_cone;
       return true;
     }
@@ -308,7 +301,7 @@ std::optional<Hit> DomeSurface::Intersect(const Ray& ray, double t_min) const {
       const double t = cone.roots[i];
       if (t < a - tolerance || t > b + tolerance) continue;
       const double z = o.z + t * d.z;
-      if (z < node_[s].z - 1e-9 || z > node_[s + 1].z + 1e-9) continue;
+      if (!InSegment(s, z)) continue;
       if (!cone.UpperNappe(t, d.z)) continue;
       t_hit = t;
       solved = true;

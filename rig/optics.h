@@ -87,6 +87,8 @@ class DomeSurface {
   // Profile radius at height z (linear between profile points) and the segment index.
   double RadiusAt(double z, int* segment) const;
   int SegmentAt(double z) const;
+  // Whether height z lies on segment s (to 1e-9 mm either side).
+  bool InSegment(int s, double z) const;
   // The hit at t on the ray, with the profile's interpolated normal there.
   Hit HitAt(const Ray& ray, double t_hit) const;
   // The exit found from the profile's quadric fit, refined on the segments' cones; false (and
