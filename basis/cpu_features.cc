@@ -18,6 +18,18 @@ bool CpuHasAvx2() {
 #endif
 }
 
+bool CpuHasAvx2Fma() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool have = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0 && __builtin_cpu_supports("fma") != 0;
+  }();
+  return have;
+#else
+  return false;
+#endif
+}
+
 bool CpuHasF16c() {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   static const bool have = [] {

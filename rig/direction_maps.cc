@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -22,8 +23,9 @@ namespace zbrdf {
 
 namespace {
 
-// 9: the grid's coordinates interleaved; 10: dome hits by false position.
-constexpr uint32_t kMapsCacheVersion = 10;
+// 9: the grid's coordinates interleaved; 10: dome hits by false position; 11: the grid's
+// coordinates in 16-bit fixed point.
+constexpr uint32_t kMapsCacheVersion = 11;
 
 // Device maps are traced in blocks of kMapBlock x kMapBlock pixels grown from seeds one per
 // kMapSeedStep x kMapSeedStep pixels (TraceDeviceMap).
@@ -234,9 +236,11 @@ DirectionMap TraceDeviceMap(const OpticalSystem& optics, const ThinLens& lens, i
 
 namespace {
 
-// The grid's step and node counts for a requested step in degrees: an exact period in phi.
-ProjectorDirectionGrid GridLayout(double step_deg) {
+// The grid's step and node counts for a requested step in degrees (an exact period in phi), and
+// its unit for a projector of width x height pixels.
+ProjectorDirectionGrid GridLayout(double step_deg, int width, int height) {
   ProjectorDirectionGrid grid;
+  grid.pixels_per_unit = GridPixelsPerUnit(width, height);
   grid.n_phi = static_cast<int>(std::lround(360.0 / step_deg));
   grid.step_rad = 2 * M_PI / grid.n_phi;
   grid.n_theta = static_cast<int>(std::ceil((M_PI / 2) / grid.step_rad)) + 1;
@@ -245,12 +249,12 @@ ProjectorDirectionGrid GridLayout(double step_deg) {
 
 ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
                                  const ProgressCallback& progress) {
-  ProjectorDirectionGrid grid = GridLayout(step_deg);
-  const size_t n = static_cast<size_t>(grid.n_theta) * grid.n_phi;
-  // Huge pages: the transport build looks up random directions (basis/huge_pages.h).
-  AssignInHugePages(&grid.xy, 2 * n, std::numeric_limits<float>::quiet_NaN());
   const ThinLens& projector = optics.projector();
   const int width = projector.params().width, height = projector.params().height;
+  ProjectorDirectionGrid grid = GridLayout(step_deg, width, height);
+  const size_t n = static_cast<size_t>(grid.n_theta) * grid.n_phi;
+  // Huge pages: the transport build looks up random directions (basis/huge_pages.h).
+  AssignInHugePages(&grid.xy, 2 * n, ProjectorDirectionGrid::kUncovered);
   std::atomic<long> done{0};
   ParallelFor(grid.n_theta, 8, [&](int64_t i0, int64_t i1) {
     for (int64_t i = i0; i < i1; ++i) {
@@ -263,8 +267,7 @@ ProjectorDirectionGrid TraceGrid(const OpticalSystem& optics, double step_deg,
         if (!proj.in_front || !proj.in_aperture) continue;
         if (proj.px < 0 || proj.py < 0 || proj.px >= width || proj.py >= height) continue;
         const size_t k = static_cast<size_t>(i) * grid.n_phi + j;
-        grid.xy[2 * k] = static_cast<float>(proj.px);
-        grid.xy[2 * k + 1] = static_cast<float>(proj.py);
+        grid.SetNode(k, proj.px, proj.py);
       }
       Report(progress, {"grid", ++done, grid.n_theta, "rows"});
     }
@@ -358,6 +361,14 @@ bool ReadMap(std::ifstream& in, DirectionMap* m) {
 
 }  // namespace
 
+double GridPixelsPerUnit(int width, int height) {
+  // Coordinates are below max(width, height); rounded, at most that many units.
+  const double most = std::max({width, height, 1});
+  int k = 0;
+  while (k < 16 && std::ldexp(most, k + 1) < ProjectorDirectionGrid::kUncovered) ++k;
+  return std::ldexp(1.0, -k);
+}
+
 bool ProjectorDirectionGrid::Lookup(const Vec3& w, double* px_out, double* py_out) const {
   if (w.z <= 0 || n_theta == 0) return false;
   return LookupAngles(SphericalTheta(w), SphericalPhi(w), px_out, py_out);
@@ -403,7 +414,8 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
       uint64_t stored_hash = 0;
       RigMaps maps;
       // The grid this rig's step gives: a file with another is damaged (the hash covers the step).
-      maps.grid = GridLayout(optics.rig().simulation.direction_grid_deg);
+      maps.grid = GridLayout(optics.rig().simulation.direction_grid_deg,
+                             optics.projector().params().width, optics.projector().params().height);
       double step = 0;
       int32_t grid_dims[2];
       if (in.read(magic, 8) && std::memcmp(magic, "ZBRDFMAP", 8) == 0 &&
@@ -415,7 +427,7 @@ RigMaps LoadOrBuildRigMaps(const OpticalSystem& optics, const std::string& cache
           grid_dims[1] == maps.grid.n_phi) {
         const uint64_t n = static_cast<uint64_t>(grid_dims[0]) * grid_dims[1];
         // As TraceGrid's, in huge pages; ReadVector keeps the memory for a file of this size.
-        AssignInHugePages(&maps.grid.xy, 2 * n, 0.0f);
+        AssignInHugePages(&maps.grid.xy, 2 * n, uint16_t{0});
         if (ReadVector(in, &maps.grid.xy, 2 * n) && maps.grid.xy.size() == 2 * n &&
             ReadVector(in, &maps.projector_moments,
                        static_cast<uint64_t>(maps.projector.size()) * kFootprintMoments) &&

@@ -41,15 +41,27 @@ struct DirectionMap {
 struct ProjectorDirectionGrid {
   double step_rad = 0;
   int n_theta = 0, n_phi = 0;  // nodes: theta = i * step (i < n_theta), phi = j * step
-  // Projector pixel coordinates of node k = i * n_phi + j at xy[2k] (x) and xy[2k + 1] (y), NaN
-  // where that direction does not reach the projector. Interleaved, so that a lookup's four
-  // nodes are two cache lines (the transport build does one per sample, at random directions).
-  std::vector<float> xy;
+  // Projector pixel coordinates of node k = i * n_phi + j at xy[2k] (x) and xy[2k + 1] (y), in
+  // fixed point: units of pixels_per_unit pixels, kUncovered where that direction does not
+  // reach the projector's pixels. Interleaved, so that a lookup's four nodes are two cache
+  // lines, and 16 bits, so that the lit zone's nodes take 7 MB at full resolution instead of
+  // floats' 14: the transport build looks one up per sample, at random directions, and waited
+  // for memory more than it computed (docs/simulator.md).
+  static constexpr uint16_t kUncovered = 0xffff;
+  double pixels_per_unit = 1;  // 1 / 2^k: GridPixelsPerUnit of the projector
+  std::vector<uint16_t> xy;
 
   // 1 / step_rad, multiplied by instead of divided by in the per-sample lookups.
   double NodesPerRad() const { return n_phi * (0.5 / M_PI); }
 
-  bool Covered(size_t node) const { return !std::isnan(xy[2 * node]); }
+  bool Covered(size_t node) const { return xy[2 * node] != kUncovered; }
+  // Sets node k to projector pixel coordinates (px, py), which must lie on the projector
+  // (0 <= px < width, 0 <= py < height): rounded to the nearest unit, within
+  // pixels_per_unit / 2 (1/128 pixel for projectors up to 1023 pixels wide).
+  void SetNode(size_t node, double px, double py) {
+    xy[2 * node] = static_cast<uint16_t>(std::lround(px / pixels_per_unit));
+    xy[2 * node + 1] = static_cast<uint16_t>(std::lround(py / pixels_per_unit));
+  }
 
   // Bilinear interpolation of the coordinates between the four surrounding nodes; false if
   // any of them is uncovered (callers trace such directions exactly).
@@ -58,9 +70,9 @@ struct ProjectorDirectionGrid {
   // SphericalPhi of w), for callers that already have them.
   // Inline: the transport build calls it for every sample.
   bool LookupAngles(double theta_rad, double phi_rad, double* px_out, double* py_out) const;
-  // Asks the CPU to start fetching the nodes LookupAngles(theta_rad, phi_rad) reads (its two
-  // rows' cache lines), for a caller that will look the direction up a little later; changes
-  // nothing else. The same angles as LookupAngles. The transport build looks up random
+  // Asks the CPU to start fetching the nodes LookupAngles(theta_rad, phi_rad) reads (the
+  // cache lines of its four nodes), for a caller that will look the direction up a little later;
+  // changes nothing else. The same angles as LookupAngles. The transport build looks up random
   // directions in a grid far larger than a core's cache: a lookup waits for memory unless its
   // nodes were asked for ahead (docs/simulator.md).
   void PrefetchAngles(double theta_rad, double phi_rad) const;
@@ -74,6 +86,11 @@ struct ProjectorDirectionGrid {
   };
   bool CellAt(double theta_rad, double phi_rad, Cell* cell) const;
 };
+
+// The grid's fixed-point unit for a projector of width x height pixels, in pixels: the smallest
+// power of two 2^-k (k <= 16) for which every coordinate on the projector, rounded to units,
+// stays below kUncovered (1/64 for the bundled rigs' 800 x 600).
+double GridPixelsPerUnit(int width, int height);
 
 inline bool ProjectorDirectionGrid::CellAt(double theta, double phi, Cell* cell) const {
   if (n_theta == 0) return false;
@@ -94,16 +111,24 @@ inline bool ProjectorDirectionGrid::CellAt(double theta, double phi, Cell* cell)
 inline void ProjectorDirectionGrid::PrefetchAngles(double theta, double phi) const {
   Cell cell;
   if (!CellAt(theta, phi, &cell)) return;
-  const float* n00 = &xy[2 * cell.n00];
-  const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
+  // The next column's nodes too: one lookup in eight (a node is 8 bytes) has them in the
+  // next cache line, or at the row's other end, and such a lookup waited for memory.
+  const uint16_t* n00 = &xy[2 * cell.n00];
+  const uint16_t* n01 = &xy[2 * cell.n01];
+  const uint16_t* n10 = n00 + 2 * static_cast<size_t>(n_phi);
+  const uint16_t* n11 = n01 + 2 * static_cast<size_t>(n_phi);
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   // An instruction the compiler must emit: GCC 12 at -O3 deleted __builtin_prefetch and
   // _mm_prefetch here (objdump showed no prefetch left in the transport build).
   asm volatile("prefetcht0 %0" : : "m"(*n00));
   asm volatile("prefetcht0 %0" : : "m"(*n10));
+  asm volatile("prefetcht0 %0" : : "m"(*n01));
+  asm volatile("prefetcht0 %0" : : "m"(*n11));
 #else
   __builtin_prefetch(n00);
   __builtin_prefetch(n10);
+  __builtin_prefetch(n01);
+  __builtin_prefetch(n11);
 #endif
 }
 
@@ -112,15 +137,17 @@ inline bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, doubl
   Cell cell;
   if (!CellAt(theta, phi, &cell)) return false;
   const double a = cell.a, b = cell.b;
-  const float* n00 = &xy[2 * cell.n00];
-  const float* n01 = &xy[2 * cell.n01];
-  const float* n10 = n00 + 2 * static_cast<size_t>(n_phi);
-  const float* n11 = n01 + 2 * static_cast<size_t>(n_phi);
-  if (std::isnan(n00[0]) || std::isnan(n01[0]) || std::isnan(n10[0]) || std::isnan(n11[0])) {
+  const uint16_t* n00 = &xy[2 * cell.n00];
+  const uint16_t* n01 = &xy[2 * cell.n01];
+  const uint16_t* n10 = n00 + 2 * static_cast<size_t>(n_phi);
+  const uint16_t* n11 = n01 + 2 * static_cast<size_t>(n_phi);
+  if (n00[0] == kUncovered || n01[0] == kUncovered || n10[0] == kUncovered ||
+      n11[0] == kUncovered) {
     return false;
   }
-  *px_out = (1 - a) * ((1 - b) * n00[0] + b * n01[0]) + a * ((1 - b) * n10[0] + b * n11[0]);
-  *py_out = (1 - a) * ((1 - b) * n00[1] + b * n01[1]) + a * ((1 - b) * n10[1] + b * n11[1]);
+  const double s = pixels_per_unit;
+  *px_out = s * ((1 - a) * ((1 - b) * n00[0] + b * n01[0]) + a * ((1 - b) * n10[0] + b * n11[0]));
+  *py_out = s * ((1 - a) * ((1 - b) * n00[1] + b * n01[1]) + a * ((1 - b) * n10[1] + b * n11[1]));
   return true;
 }
 

@@ -321,7 +321,8 @@ constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
 // 7: the control variate's probes no longer depend on the seed; the half-vector proxy's lobe is
 // the nearer probe's (brdf/proxy_sampler.h).
-constexpr uint32_t kTransportVersion = 7;
+// 8: the network evaluated with fused multiply-adds where the CPU has them (brdf/nbrdf.cc).
+constexpr uint32_t kTransportVersion = 8;
 
 // Removes the least recently used transport entries until the folder holds at most max_bytes.
 void TrimTransportCache(const std::filesystem::path& folder, uint64_t max_bytes) {

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -73,6 +73,65 @@ TEST(DirectionMapsTest, GridLookupInvertsTheProjectorMap) {
   EXPECT_LT(worst, 0.05);
 }
 
+// The grid's fixed-point unit: the finest power of two at which every coordinate on the
+// projector rounds below kUncovered, the marker of a node that reaches no projector pixel.
+TEST(DirectionMapsTest, GridUnitIsTheFinestPowerOfTwoThatHoldsTheProjector) {
+  EXPECT_EQ(GridPixelsPerUnit(800, 600), 1.0 / 64);   // 800 * 64 = 51200
+  EXPECT_EQ(GridPixelsPerUnit(600, 800), 1.0 / 64);   // the larger side decides
+  EXPECT_EQ(GridPixelsPerUnit(1023, 768), 1.0 / 64);  // 65472 < 65535
+  EXPECT_EQ(GridPixelsPerUnit(1024, 768), 1.0 / 32);  // 65536 would be the marker and beyond
+  EXPECT_EQ(GridPixelsPerUnit(8, 8), 1.0 / 4096);     // 8 * 8192 = 65536
+  EXPECT_EQ(GridPixelsPerUnit(20000, 20000), 0.5);    // the rig file's largest projector
+  for (const int side : {8, 600, 800, 1023, 1024, 1920, 20000}) {
+    const double unit = GridPixelsPerUnit(side, 8);
+    // The largest coordinate on the projector, just below its side, rounds to a unit value...
+    EXPECT_LT(std::lround(std::nextafter(static_cast<double>(side), 0.0) / unit),
+              ProjectorDirectionGrid::kUncovered)
+        << side;
+    // ... and the next finer unit would not hold it.
+    EXPECT_GE(std::lround(std::nextafter(static_cast<double>(side), 0.0) / (unit / 2)),
+              ProjectorDirectionGrid::kUncovered)
+        << side;
+  }
+}
+
+// Each covered node holds the projector pixel coordinates of its direction's exact trace to
+// within half a unit (the rounding), and the uncovered ones reach no projector pixel.
+TEST(DirectionMapsTest, GridNodesAreTheTracedCoordinatesToHalfAUnit) {
+  const auto& shared = testing::SharedFastThesisRig();
+  const ProjectorDirectionGrid& grid = shared.maps.grid;
+  const int width = shared.optics.projector().params().width;
+  const int height = shared.optics.projector().params().height;
+  ASSERT_EQ(grid.pixels_per_unit, GridPixelsPerUnit(width, height));
+  int covered = 0, uncovered = 0;
+  double worst = 0;
+  for (size_t k = 0; k < grid.xy.size() / 2; k += 37) {
+    const int i = static_cast<int>(k / grid.n_phi), j = static_cast<int>(k % grid.n_phi);
+    const Vec3 w = SphericalDirection(std::min(i * grid.step_rad, M_PI / 2), j * grid.step_rad);
+    const auto path = shared.optics.TraceFromSample({0, 0, 0}, w);
+    bool on_projector = false;
+    double px = 0, py = 0;
+    if (path.reached) {
+      const auto proj = shared.optics.projector().Project(path.at_lens);
+      px = proj.px;
+      py = proj.py;
+      on_projector =
+          proj.in_front && proj.in_aperture && px >= 0 && py >= 0 && px < width && py < height;
+    }
+    ASSERT_EQ(grid.Covered(k), on_projector) << "node " << k;
+    if (!on_projector) {
+      ++uncovered;
+      continue;
+    }
+    ++covered;
+    worst = std::max({worst, std::abs(grid.xy[2 * k] * grid.pixels_per_unit - px),
+                      std::abs(grid.xy[2 * k + 1] * grid.pixels_per_unit - py)});
+  }
+  EXPECT_GT(covered, 1000);
+  EXPECT_GT(uncovered, 1000);
+  EXPECT_LE(worst, 0.5 * grid.pixels_per_unit);
+}
+
 TEST(DirectionMapsTest, CacheRoundTripsAndRejectsDamage) {
   const auto& shared = testing::SharedFastThesisRig();
   const std::string dir = testing::TestCacheDir() + "/roundtrip-" + std::to_string(::getpid());
@@ -106,10 +165,8 @@ TEST(DirectionMapsTest, CacheRoundTripsAndRejectsDamage) {
   const RigMaps after_bad_size = LoadOrBuildRigMaps(shared.optics, dir);
   EXPECT_EQ(after_bad_size.grid.n_theta, built.grid.n_theta);
   ASSERT_EQ(after_bad_size.grid.xy.size(), built.grid.xy.size());
-  // Bit for bit (uncovered nodes are NaN, which == would call unequal).
-  EXPECT_EQ(std::memcmp(after_bad_size.grid.xy.data(), built.grid.xy.data(),
-                        built.grid.xy.size() * sizeof(float)),
-            0);
+  EXPECT_EQ(after_bad_size.grid.xy, built.grid.xy);
+  EXPECT_EQ(after_bad_size.grid.pixels_per_unit, built.grid.pixels_per_unit);
   std::filesystem::remove_all(dir);
 }
 
