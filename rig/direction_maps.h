@@ -44,8 +44,8 @@ struct ProjectorDirectionGrid {
   // Projector pixel coordinates of node k = i * n_phi + j at xy[2k] (x) and xy[2k + 1] (y), in
   // fixed point: units of pixels_per_unit pixels, kUncovered where that direction does not
   // reach the projector's pixels. Interleaved, so that a lookup's four nodes are two cache
-  // lines, and 16 bits, so that the lit zone's nodes take 7 MB at full resolution instead of
-  // floats' 14: the transport build looks one up per sample, at random directions, and waited
+  // lines, and 16 bits, so that the lit zone's nodes take 8 MB at full resolution instead of
+  // floats' 16: the transport build looks one up per sample, at random directions, and waited
   // for memory more than it computed (docs/simulator.md).
   static constexpr uint16_t kUncovered = 0xffff;
   double pixels_per_unit = 1;  // 1 / 2^k: GridPixelsPerUnit of the projector
