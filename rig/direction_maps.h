@@ -85,6 +85,16 @@ struct ProjectorDirectionGrid {
     double a, b;
   };
   bool CellAt(double theta_rad, double phi_rad, Cell* cell) const;
+  // The coordinates of a cell's four nodes: n00, n01 and the row above's n10, n11.
+  struct CellNodes {
+    const uint16_t *n00, *n01, *n10, *n11;
+  };
+  CellNodes NodesOf(const Cell& cell) const {
+    const size_t row = 2 * static_cast<size_t>(n_phi);
+    const uint16_t* n00 = &xy[2 * cell.n00];
+    const uint16_t* n01 = &xy[2 * cell.n01];
+    return {n00, n01, n00 + row, n01 + row};
+  }
 };
 
 // The grid's fixed-point unit for a projector of width x height pixels, in pixels: the smallest
@@ -111,12 +121,9 @@ inline bool ProjectorDirectionGrid::CellAt(double theta, double phi, Cell* cell)
 inline void ProjectorDirectionGrid::PrefetchAngles(double theta, double phi) const {
   Cell cell;
   if (!CellAt(theta, phi, &cell)) return;
-  // The next column's nodes too: one lookup in eight (a node is 8 bytes) has them in the
+  // The next column's nodes too: one lookup in sixteen (a node is 4 bytes) has them in the
   // next cache line, or at the row's other end, and such a lookup waited for memory.
-  const uint16_t* n00 = &xy[2 * cell.n00];
-  const uint16_t* n01 = &xy[2 * cell.n01];
-  const uint16_t* n10 = n00 + 2 * static_cast<size_t>(n_phi);
-  const uint16_t* n11 = n01 + 2 * static_cast<size_t>(n_phi);
+  const auto [n00, n01, n10, n11] = NodesOf(cell);
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   // An instruction the compiler must emit: GCC 12 at -O3 deleted __builtin_prefetch and
   // _mm_prefetch here (objdump showed no prefetch left in the transport build).
@@ -137,10 +144,7 @@ inline bool ProjectorDirectionGrid::LookupAngles(double theta, double phi, doubl
   Cell cell;
   if (!CellAt(theta, phi, &cell)) return false;
   const double a = cell.a, b = cell.b;
-  const uint16_t* n00 = &xy[2 * cell.n00];
-  const uint16_t* n01 = &xy[2 * cell.n01];
-  const uint16_t* n10 = n00 + 2 * static_cast<size_t>(n_phi);
-  const uint16_t* n11 = n01 + 2 * static_cast<size_t>(n_phi);
+  const auto [n00, n01, n10, n11] = NodesOf(cell);
   if (n00[0] == kUncovered || n01[0] == kUncovered || n10[0] == kUncovered ||
       n11[0] == kUncovered) {
     return false;

@@ -321,7 +321,8 @@ constexpr char kTransportEnd[8] = {'Z', 'B', 'R', 'D', 'F', 'E', 'N', 'D'};
 // Bump when BuildTransport's output changes for the same inputs.
 // 7: the control variate's probes no longer depend on the seed; the half-vector proxy's lobe is
 // the nearer probe's (brdf/proxy_sampler.h).
-// 8: the network evaluated with fused multiply-adds where the CPU has them (brdf/nbrdf.cc).
+// 8: the network evaluated with fused multiply-adds where the CPU has them (brdf/nbrdf.cc); the
+// direction grid in 16-bit fixed point (rig/direction_maps.h).
 constexpr uint32_t kTransportVersion = 8;
 
 // Removes the least recently used transport entries until the folder holds at most max_bytes.
